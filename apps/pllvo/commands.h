@@ -1,0 +1,10 @@
+#pragma once
+// Each subcommand lives in its own cmd_<name>.cpp and registers itself on the app.
+// The CLI stays thin: parse options, call the library, print.
+#include <CLI/CLI.hpp>
+
+namespace pllvo::cli {
+
+void add_eval_command(CLI::App& app);
+
+}  // namespace pllvo::cli
