@@ -1,0 +1,63 @@
+#pragma once
+// When to make a keyframe (paper 3.3). Three strategies, each with its own threshold and
+// switch, and every decision names the rule that fired, so logs and stats show why.
+#include <string>
+#include <vector>
+
+#include "pllvo/vo/vo_config.h"
+
+namespace pllvo::vo {
+
+enum class KeyframeReason {
+  kNone,
+  kInitialization,    ///< first keyframe(s) of a map
+  kFewPoints,         ///< (1) tracked points below the minimum count
+  kTrackingQuality,   ///< (1) share of the keyframe's points still tracked below the ratio
+  kMaxInterval,       ///< (2) too long since the last keyframe
+  kIdleInterval,      ///< (2) back end idle and the minimum interval passed
+  kLineAngles,        ///< (3) the line overlap-angle set changed beyond its threshold
+};
+
+/// Stable lower-case name used in logs and stats.json.
+std::string to_string(KeyframeReason reason);
+/// Every reason except kNone, in declaration order (for counters).
+const std::vector<KeyframeReason>& all_keyframe_reasons();
+
+/// What the tracker knows about the current frame when it asks for a decision.
+struct FrameTrackingState {
+  double timestamp = 0;
+  int tracked_points = 0;    ///< points tracked into this frame and kept by the pose solver
+  bool backend_idle = true;  ///< the keyframe worker has nothing queued or running
+  /// The frame's set of line overlap angles (radians), null when lines are not used.
+  const std::vector<double>* line_angles = nullptr;
+};
+
+/// Share in [0, 1] of the two angle sets without a partner in the other set within
+/// `tolerance` (one-to-one matching): 0 for equal sets, 1 for disjoint ones.
+double angle_set_change(std::vector<double> reference, std::vector<double> current, double tolerance);
+
+class KeyframePolicy {
+ public:
+  explicit KeyframePolicy(const KeyframePolicyConfig& config);
+
+  /// A keyframe was made at `timestamp`; later frames are compared with this state.
+  void start_keyframe(double timestamp, int tracked_points, std::vector<double> line_angles = {});
+  /// The keyframe's own points became trackable (after its detection finished on the worker):
+  /// the tracking-quality ratio is measured against this count from now on.
+  void set_reference_points(int tracked_points);
+
+  KeyframeReason decide(const FrameTrackingState& frame) const;
+
+  bool has_reference() const { return has_reference_; }
+  double reference_time() const { return reference_time_; }
+  int reference_points() const { return reference_points_; }
+
+ private:
+  KeyframePolicyConfig config_;
+  bool has_reference_ = false;
+  double reference_time_ = 0;
+  int reference_points_ = 0;
+  std::vector<double> reference_angles_;
+};
+
+}  // namespace pllvo::vo

@@ -1,0 +1,87 @@
+#pragma once
+// Everything done once per keyframe, on the worker thread: point detection, association with
+// the map (KLT tracks and descriptor matches with the previous keyframe), new 3-D points
+// (stereo or two-view triangulation), and the sliding-window bundle adjustment.
+#include <memory>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "pllvo/vo/geometry_adapter.h"
+#include "pllvo/vo/keyframe_matcher.h"
+#include "pllvo/vo/map.h"
+#include "pllvo/vo/point_frontend.h"
+#include "pllvo/vo/point_tracker.h"
+#include "pllvo/vo/run_stats.h"
+#include "pllvo/vo/vo_config.h"
+
+namespace pllvo::vo {
+
+/// A point followed into a frame, with its map point (kNoId while it has none).
+struct TrackedPoint {
+  cv::Point2f px;
+  Id point = kNoId;
+};
+
+struct KeyframeJob {
+  size_t frame_index = 0;
+  double timestamp = 0;
+  cv::Mat left, right;         ///< working images (right empty for mono)
+  ImagePyramid left_pyramid;   ///< built by the tracker for this frame
+  geometry::Pose T_world_cam = geometry::Pose::Identity();
+  KeyframeReason reason = KeyframeReason::kNone;
+  std::vector<TrackedPoint> tracks;  ///< KLT tracks in this frame
+  bool first = false;                ///< first keyframe of a map segment (stereo initialisation)
+};
+
+struct KeyframeResult {
+  bool ok = false;
+  Id keyframe = kNoId;
+  size_t frame_index = 0;
+  std::vector<TrackedPoint> tracks;  ///< the keyframe's points that have a map point
+  int matches = 0;                   ///< descriptor matches with the previous keyframe
+  int new_points = 0;
+};
+
+class KeyframeProcessor {
+ public:
+  KeyframeProcessor(const VoConfig& config, const Pinhole& camera, double baseline, Map& map, RunStats& stats);
+
+  /// Runs on the worker (or inline in single-thread mode). A first keyframe that yields
+  /// too few 3-D points is not added (result.ok false).
+  KeyframeResult process(const KeyframeJob& job);
+
+  /// Monocular initialisation: adds the reference keyframe (already detected features,
+  /// `ref_points` per feature or nullopt) and then processes `second` as a keyframe.
+  KeyframeResult initialize_mono(const KeyframeJob& reference, const PointFeatures& ref_features,
+                                 const std::vector<std::optional<Eigen::Vector3d>>& ref_points_world,
+                                 const KeyframeJob& second);
+
+  /// Detection for the tracker's own use (monocular initialisation); not thread-safe with process().
+  PointFeatures detect(const cv::Mat& image);
+
+  /// The next keyframe starts a new map segment (after a tracking loss).
+  void start_segment();
+  int segment() const { return segment_; }
+  const std::string& frontend_name() const { return frontend_name_; }
+
+ private:
+  void associate_tracks(const std::vector<TrackedPoint>& tracks, const PointFeatures& features,
+                        std::vector<Id>& ids) const;
+  std::vector<std::optional<Eigen::Vector3d>> stereo_points(const KeyframeJob& job, const PointFeatures& features,
+                                                            const std::vector<Id>& ids);
+
+  VoConfig config_;
+  Pinhole camera_;
+  double baseline_;
+  Map& map_;
+  RunStats& stats_;
+  std::unique_ptr<PointFrontend> frontend_;
+  std::unique_ptr<KeyframeMatcher> matcher_;
+  std::string frontend_name_;
+  PointTracker stereo_tracker_;
+  int segment_ = 0;
+  std::vector<Id> segment_keyframes_;  ///< keyframes of the current segment, oldest first
+};
+
+}  // namespace pllvo::vo

@@ -1,0 +1,107 @@
+#pragma once
+// The visual odometry: per-frame tracking on the caller's thread (KLT of the keyframe's
+// points, PnP + RANSAC, robust refinement, keyframe decision), keyframe processing on a
+// worker thread (or inline in single-thread mode), re-initialisation after a loss.
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <vector>
+
+#include "pllvo/io/sequence.h"
+#include "pllvo/vo/frame_rectifier.h"
+#include "pllvo/vo/keyframe_policy.h"
+#include "pllvo/vo/keyframe_processor.h"
+#include "pllvo/vo/keyframe_worker.h"
+#include "pllvo/vo/map.h"
+#include "pllvo/vo/point_tracker.h"
+#include "pllvo/vo/run_output.h"
+#include "pllvo/vo/run_stats.h"
+#include "pllvo/vo/vo_config.h"
+
+namespace pllvo::vo {
+
+enum class TrackingState { kUninitialized, kTracking };
+
+class Odometry {
+ public:
+  /// `use_stereo`: use cam1 when the calibration has one (else monocular).
+  Odometry(const VoConfig& config, const io::Calibration& calibration, bool use_stereo, RunStats& stats);
+  ~Odometry();
+
+  /// Processes one frame; never throws on image content (dark, blank, textureless frames
+  /// just are not tracked). InputError for a frame whose size differs from the calibration.
+  FrameRecord process(const io::Frame& frame);
+  /// Waits for pending keyframe jobs (call before reading the final map).
+  void finish();
+
+  const std::vector<FrameRecord>& records() const { return records_; }
+  TrackingState state() const { return state_; }
+  bool stereo() const { return rectifier_.stereo(); }
+  int resets() const { return resets_; }
+  /// Keyframe poses (T_world_cam0, after bundle adjustment) with their timestamps.
+  io::Trajectory keyframe_trajectory() const;
+  /// Map in the output world frame.
+  MapData map_snapshot() const;
+  const RunStats& stats() const { return stats_; }
+
+ private:
+  struct MonoReference {
+    size_t frame_index = 0;
+    double timestamp = 0;
+    cv::Mat image;
+    PointFeatures features;
+    std::vector<cv::Point2f> current;   ///< each feature followed into the latest frame
+    std::vector<unsigned char> alive;   ///< still tracked
+    size_t frames = 0;
+  };
+
+  bool initialize(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right, const ImagePyramid& pyramid);
+  bool initialize_stereo(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
+                         const ImagePyramid& pyramid);
+  bool initialize_mono(const io::Frame& frame, const cv::Mat& left, const ImagePyramid& pyramid);
+  void start_mono_reference(const io::Frame& frame, const cv::Mat& left);
+  bool track(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right, const ImagePyramid& pyramid,
+             FrameRecord& record);
+  void maybe_make_keyframe(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
+                           const ImagePyramid& pyramid, int tracked_points);
+  void submit_keyframe(KeyframeJob job);
+  void apply_keyframe_results();
+  void start_tracking(const KeyframeResult& result, double timestamp);
+  void handle_lost();
+  void reset();
+  geometry::Pose to_output(const geometry::Pose& T_world_work) const;
+
+  VoConfig config_;
+  RunStats& stats_;
+  FrameRectifier rectifier_;
+  Pinhole camera_;
+  PointTracker tracker_;
+  KeyframePolicy policy_;
+  Map map_;
+  KeyframeProcessor processor_;
+  KeyframeWorker worker_;
+
+  TrackingState state_ = TrackingState::kUninitialized;
+  std::vector<TrackedPoint> tracks_;
+  ImagePyramid previous_pyramid_;
+  size_t previous_index_ = 0;
+  geometry::Pose T_world_work_;                 ///< latest tracked pose (working camera)
+  geometry::Pose velocity_ = geometry::Pose::Identity();  ///< T_prev_cur of the last tracked step
+  bool has_velocity_ = false;
+  int lost_frames_ = 0;
+  int resets_ = 0;
+  geometry::Pose T_work_cam0_;
+  std::unique_ptr<MonoReference> mono_;
+
+  // Keyframe results come back from the worker; tracks found on a keyframe are brought up
+  // to date through the pyramids of the frames that passed meanwhile.
+  std::mutex results_mutex_;
+  std::deque<KeyframeResult> results_;
+  std::set<size_t> pending_keyframe_frames_;
+  std::deque<std::pair<size_t, ImagePyramid>> pyramid_buffer_;
+
+  std::vector<FrameRecord> records_;
+};
+
+}  // namespace pllvo::vo

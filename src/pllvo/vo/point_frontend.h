@@ -1,0 +1,51 @@
+#pragma once
+// Point detection and description on keyframes, behind one interface so that SuperPoint
+// and the classical baselines (ORB, Shi-Tomasi) share the rest of the pipeline.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "pllvo/vo/vo_config.h"
+
+namespace pllvo::vo {
+
+/// Points of one image with one descriptor row each (CV_8U binary or CV_32F float).
+struct PointFeatures {
+  std::vector<cv::Point2f> points;  ///< pixels of the input image
+  std::vector<float> scores;        ///< detector response, larger is better
+  cv::Mat descriptors;              ///< rows == points.size()
+
+  size_t size() const { return points.size(); }
+  bool empty() const { return points.empty(); }
+  bool binary() const { return descriptors.type() == CV_8U; }
+  /// Appends `other` (same descriptor type and width, or this one empty).
+  void append(const PointFeatures& other);
+};
+
+class PointFrontend {
+ public:
+  virtual ~PointFrontend() = default;
+  virtual std::string name() const = 0;
+  /// New points on `image` (CV_8UC1): at most the configured number, spread over a grid,
+  /// none closer than the configured distance to a point in `occupied`. Any image, also a
+  /// black or flat one, is fine: it just yields few or no points.
+  virtual PointFeatures detect(const cv::Mat& image, const std::vector<cv::Point2f>& occupied = {}) = 0;
+};
+
+/// The front end named by `config.type`; InputError when it cannot be built (e.g. missing weights).
+std::unique_ptr<PointFrontend> make_point_frontend(const FrontendConfig& config);
+
+/// Keeps the strongest keypoints per grid cell (an even share of `max_points` each, the
+/// leftover filled by the strongest of the rest), so points cover the whole image.
+std::vector<size_t> select_on_grid(const std::vector<cv::Point2f>& points, const std::vector<float>& scores,
+                                   cv::Size image_size, int grid_cols, int grid_rows, int max_points);
+
+/// 255 everywhere except discs of `radius` around `occupied` and a border of `border` pixels.
+cv::Mat free_space_mask(cv::Size size, const std::vector<cv::Point2f>& occupied, double radius, int border);
+
+/// Contrast-limited histogram equalisation, so that dim frames still give corners.
+cv::Mat equalize_for_detection(const cv::Mat& image);
+
+}  // namespace pllvo::vo

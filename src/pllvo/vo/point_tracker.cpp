@@ -1,0 +1,79 @@
+#include "pllvo/vo/point_tracker.h"
+
+#include <algorithm>
+#include <limits>
+
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include "pllvo/common/error.h"
+
+namespace pllvo::vo {
+
+int TrackResult::tracked() const { return static_cast<int>(std::count(ok.begin(), ok.end(), 1)); }
+
+PointTracker::PointTracker(const KltConfig& config)
+    : config_(config),
+      window_(config.window_px, config.window_px),
+      criteria_(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, config.max_iterations, config.epsilon) {}
+
+ImagePyramid PointTracker::build_pyramid(const cv::Mat& image) const {
+  if (image.empty() || image.type() != CV_8UC1) throw InternalError("PointTracker: expects a CV_8UC1 image");
+  ImagePyramid pyr;
+  pyr.image = image;
+  cv::buildOpticalFlowPyramid(image, pyr.levels, window_, config_.levels, true);
+  return pyr;
+}
+
+TrackResult PointTracker::track(const ImagePyramid& from, const ImagePyramid& to,
+                                const std::vector<cv::Point2f>& points,
+                                const std::vector<cv::Point2f>* predicted) const {
+  TrackResult result;
+  const size_t n = points.size();
+  result.ok.assign(n, 0);
+  result.fb_error.assign(n, std::numeric_limits<float>::infinity());
+  result.points = predicted && predicted->size() == n ? *predicted : points;
+  if (n == 0 || from.empty() || to.empty()) return result;
+
+  std::vector<unsigned char> forward_ok, backward_ok;
+  std::vector<float> err;
+  cv::calcOpticalFlowPyrLK(from.levels, to.levels, points, result.points, forward_ok, err, window_,
+                           config_.levels, criteria_, cv::OPTFLOW_USE_INITIAL_FLOW,
+                           config_.min_eigen_threshold);
+  // Backward pass, seeded with the forward result minus the predicted motion (not with the
+  // origin itself, which would pull a wrong track back and hide it): a consistent track
+  // returns to its origin on its own.
+  std::vector<cv::Point2f> back(n);
+  for (size_t i = 0; i < n; ++i)
+    back[i] = predicted && predicted->size() == n ? result.points[i] - ((*predicted)[i] - points[i]) : result.points[i];
+  cv::calcOpticalFlowPyrLK(to.levels, from.levels, result.points, back, backward_ok, err, window_,
+                           config_.levels, criteria_, cv::OPTFLOW_USE_INITIAL_FLOW,
+                           config_.min_eigen_threshold);
+  const float border = static_cast<float>(config_.border_px);
+  const float max_x = to.size().width - 1 - border, max_y = to.size().height - 1 - border;
+  for (size_t i = 0; i < n; ++i) {
+    if (!forward_ok[i] || !backward_ok[i]) continue;
+    const cv::Point2f& p = result.points[i];
+    if (!(p.x >= border && p.y >= border && p.x <= max_x && p.y <= max_y)) continue;
+    const float fb = static_cast<float>(cv::norm(back[i] - points[i]));
+    result.fb_error[i] = fb;
+    result.ok[i] = fb <= config_.fb_threshold_px &&
+                   (config_.min_ncc <= -1.0 || patch_ncc(from.image, points[i], to.image, p, config_.window_px) >= config_.min_ncc);
+  }
+  return result;
+}
+
+double patch_ncc(const cv::Mat& a, cv::Point2f pa, const cv::Mat& b, cv::Point2f pb, int size) {
+  cv::Mat patch_a, patch_b;
+  cv::getRectSubPix(a, cv::Size(size, size), pa, patch_a, CV_32F);
+  cv::getRectSubPix(b, cv::Size(size, size), pb, patch_b, CV_32F);
+  cv::Scalar mean_a, std_a, mean_b, std_b;
+  cv::meanStdDev(patch_a, mean_a, std_a);
+  cv::meanStdDev(patch_b, mean_b, std_b);
+  // Flat patches (black frames) carry no evidence either way: call them uncorrelated.
+  if (std_a[0] < 1e-3 || std_b[0] < 1e-3) return 0.0;
+  const double cov = cv::mean((patch_a - mean_a[0]).mul(patch_b - mean_b[0]))[0];
+  return cov / (std_a[0] * std_b[0]);
+}
+
+}  // namespace pllvo::vo

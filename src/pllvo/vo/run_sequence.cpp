@@ -1,0 +1,115 @@
+#include "pllvo/vo/run_sequence.h"
+
+#include <chrono>
+#include <cstdio>
+
+#include <spdlog/spdlog.h>
+
+#include "pllvo/common/error.h"
+#include "pllvo/vo/odometry.h"
+
+namespace pllvo::vo {
+namespace {
+
+nlohmann::json lost_json(const std::vector<LostInterval>& lost) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& l : lost)
+    j.push_back({{"first_frame", l.first_frame},
+                 {"last_frame", l.last_frame},
+                 {"frames", l.last_frame - l.first_frame + 1},
+                 {"first_time", l.first_time},
+                 {"last_time", l.last_time}});
+  return j;
+}
+
+std::string describe(const LostInterval& l) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "frames %zu-%zu (t %.3f-%.3f s)", l.first_frame, l.last_frame, l.first_time,
+                l.last_time);
+  return buf;
+}
+
+}  // namespace
+
+RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, const RunOptions& options) {
+  if (sequence.size() == 0) throw InputError(sequence.root(), "the sequence has no frames");
+  if (options.first_frame >= sequence.size())
+    throw InputError("first frame " + std::to_string(options.first_frame) + " is past the end (" +
+                     std::to_string(sequence.size()) + " frames)");
+  const size_t end = options.max_frames == 0 ? sequence.size()
+                                             : std::min(sequence.size(), options.first_frame + options.max_frames);
+  RunStats stats;
+  const bool stereo = options.stereo && sequence.calibration().stereo();
+  Odometry odometry(config, sequence.calibration(), stereo, stats);
+
+  using clock = std::chrono::steady_clock;
+  const auto start = clock::now();
+  auto last_progress = start;
+  for (size_t i = options.first_frame; i < end; ++i) {
+    io::Frame frame;
+    {
+      ScopedTimer t(stats, "load");
+      frame = sequence.frame(i);
+      frame.index = i;
+    }
+    odometry.process(frame);
+    const auto now = clock::now();
+    if (options.progress && config.run.progress_interval_s > 0 &&
+        std::chrono::duration<double>(now - last_progress).count() >= config.run.progress_interval_s) {
+      last_progress = now;
+      const double elapsed = std::chrono::duration<double>(now - start).count();
+      const size_t done = i + 1 - options.first_frame;
+      char line[256];
+      std::snprintf(line, sizeof line, "frame %zu/%zu  %.1f fps  tracked %lld  keyframes %lld  resets %d", done,
+                    end - options.first_frame, done / elapsed, stats.count("tracked_frames"),
+                    stats.count("keyframes"), odometry.resets());
+      options.progress(line);
+    }
+  }
+  odometry.finish();
+  const double wall = std::chrono::duration<double>(clock::now() - start).count();
+
+  RunSummary summary;
+  summary.frames = end - options.first_frame;
+  summary.stereo = odometry.stereo();
+  summary.resets = odometry.resets();
+  summary.wall_seconds = wall;
+  summary.frames_per_second = wall > 0 ? summary.frames / wall : 0;
+  summary.lost = lost_intervals(odometry.records());
+  summary.trajectory = tracked_trajectory(odometry.records());
+  summary.tracked_frames = summary.trajectory.size();
+  const io::Trajectory keyframes = odometry.keyframe_trajectory();
+  summary.keyframes = keyframes.size();
+  const MapData map = odometry.map_snapshot();
+
+  nlohmann::json j = stats.to_json();
+  j["sequence"] = sequence.root().string();
+  j["format"] = sequence.format();
+  j["mode"] = summary.stereo ? "stereo" : "mono";
+  j["frontend"] = config.frontend.type;
+  j["threaded"] = config.run.threaded;
+  j["frames"] = summary.frames;
+  j["tracked_frames"] = summary.tracked_frames;
+  j["keyframes"] = summary.keyframes;
+  nlohmann::json by_reason = nlohmann::json::object();
+  for (KeyframeReason r : all_keyframe_reasons()) by_reason[to_string(r)] = stats.count("keyframes." + to_string(r));
+  j["keyframes_by_reason"] = by_reason;
+  j["resets"] = summary.resets;
+  j["lost_intervals"] = lost_json(summary.lost);
+  j["map"] = {{"points", map.points.size()}, {"lines", map.lines.size()}, {"keyframes", map.keyframes.size()}};
+  j["wall_time_s"] = wall;
+  j["frames_per_second"] = summary.frames_per_second;
+  summary.stats = j;
+
+  for (const auto& l : summary.lost) spdlog::warn("not tracked: {}", describe(l));
+
+  if (!options.out_dir.empty()) {
+    write_trajectory_tum(summary.trajectory, options.out_dir / "trajectory.tum");
+    write_trajectory_tum(keyframes, options.out_dir / "keyframes.tum");
+    write_map_ply(map, options.out_dir / "map.ply");
+    write_json(j, options.out_dir / "stats.json");
+  }
+  return summary;
+}
+
+}  // namespace pllvo::vo

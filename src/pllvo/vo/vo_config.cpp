@@ -1,0 +1,153 @@
+#include "pllvo/vo/vo_config.h"
+
+namespace pllvo::vo {
+namespace {
+
+void read_frontend(const ConfigNode& n, FrontendConfig& c) {
+  n.get("type", c.type);
+  n.get("max_points", c.max_points);
+  n.get("grid_cols", c.grid_cols);
+  n.get("grid_rows", c.grid_rows);
+  n.get("min_distance_px", c.min_distance_px);
+  n.get("orb_levels", c.orb_levels);
+  n.get("orb_scale_factor", c.orb_scale_factor);
+  n.get("orb_fast_threshold", c.orb_fast_threshold);
+  n.get("shitomasi_quality", c.shitomasi_quality);
+  n.get("shitomasi_block_size", c.shitomasi_block_size);
+  n.get("superpoint_weights", c.superpoint_weights);
+  n.get("superpoint_input_scale", c.superpoint_input_scale);
+  n.get("superpoint_threshold", c.superpoint_threshold);
+  n.get("superpoint_adaptive_threshold", c.superpoint_adaptive_threshold);
+  n.get("superpoint_nms_radius", c.superpoint_nms_radius);
+  n.get("equalize", c.equalize);
+  n.reject_unknown_keys();
+}
+
+void read_klt(const ConfigNode& n, KltConfig& c) {
+  n.get("window_px", c.window_px);
+  n.get("levels", c.levels);
+  n.get("max_iterations", c.max_iterations);
+  n.get("epsilon", c.epsilon);
+  n.get("fb_threshold_px", c.fb_threshold_px);
+  n.get("min_ncc", c.min_ncc);
+  n.get("min_eigen_threshold", c.min_eigen_threshold);
+  n.get("border_px", c.border_px);
+  n.reject_unknown_keys();
+}
+
+void read_keyframes(const ConfigNode& n, KeyframePolicyConfig& c) {
+  n.get("use_point_trigger", c.use_point_trigger);
+  n.get("min_tracked_points", c.min_tracked_points);
+  n.get("min_tracked_ratio", c.min_tracked_ratio);
+  n.get("use_time_trigger", c.use_time_trigger);
+  n.get("max_interval_s", c.max_interval_s);
+  n.get("min_interval_s", c.min_interval_s);
+  n.get("use_line_trigger", c.use_line_trigger);
+  n.get("line_angle_change", c.line_angle_change);
+  n.get("line_angle_tolerance_deg", c.line_angle_tolerance_deg);
+  n.get("line_min_angles", c.line_min_angles);
+  n.reject_unknown_keys();
+}
+
+void read_init(const ConfigNode& n, InitConfig& c) {
+  n.get("min_points", c.min_points);
+  n.get("mono_min_parallax_deg", c.mono_min_parallax_deg);
+  n.get("mono_min_flow_px", c.mono_min_flow_px);
+  n.get("max_frames", c.max_frames);
+  n.get("stereo_max_epipolar_px", c.stereo_max_epipolar_px);
+  n.get("min_depth_m", c.min_depth_m);
+  n.get("max_depth_m", c.max_depth_m);
+  n.get("stereo_min_points", c.stereo_min_points);
+  n.reject_unknown_keys();
+}
+
+void read_pose(const ConfigNode& n, PoseConfig& c) {
+  n.get("ransac_threshold_px", c.ransac_threshold_px);
+  n.get("ransac_iterations", c.ransac_iterations);
+  n.get("ransac_confidence", c.ransac_confidence);
+  n.get("min_inliers", c.min_inliers);
+  n.get("huber_px", c.huber_px);
+  n.get("use_lines", c.use_lines);
+  n.get("line_weight", c.line_weight);
+  n.get("use_motion_prior", c.use_motion_prior);
+  n.get("lost_frames_before_reset", c.lost_frames_before_reset);
+  n.reject_unknown_keys();
+}
+
+void read_mapping(const ConfigNode& n, MappingConfig& c) {
+  n.get("matcher", c.matcher);
+  n.get("lightglue_weights", c.lightglue_weights);
+  n.get("mnn_max_distance", c.mnn_max_distance);
+  n.get("orb_ratio", c.orb_ratio);
+  n.get("orb_max_hamming", c.orb_max_hamming);
+  n.get("min_parallax_deg", c.min_parallax_deg);
+  n.get("max_reprojection_px", c.max_reprojection_px);
+  n.get("min_depth_m", c.min_depth_m);
+  n.get("max_depth_m", c.max_depth_m);
+  n.get("window_keyframes", c.window_keyframes);
+  n.get("fixed_keyframes", c.fixed_keyframes);
+  n.get("ba_iterations", c.ba_iterations);
+  n.get("ba_huber_px", c.ba_huber_px);
+  n.get("use_lines", c.use_lines);
+  n.reject_unknown_keys();
+}
+
+void read_run(const ConfigNode& n, RunConfig& c) {
+  n.get("threaded", c.threaded);
+  n.get("progress_interval_s", c.progress_interval_s);
+  n.reject_unknown_keys();
+}
+
+void require(bool ok, const std::filesystem::path& file, const std::string& key,
+             const std::string& message) {
+  if (!ok) throw InputError(file, key, message);
+}
+
+}  // namespace
+
+VoConfig VoConfig::load(const std::filesystem::path& file) {
+  VoConfig config;
+  config.read(ConfigNode::load_file(file));
+  config.validate(file);
+  return config;
+}
+
+void VoConfig::read(const ConfigNode& node) {
+  read_frontend(node.child("frontend"), frontend);
+  read_klt(node.child("klt"), klt);
+  read_keyframes(node.child("keyframes"), keyframes);
+  read_init(node.child("init"), init);
+  read_pose(node.child("pose"), pose);
+  read_mapping(node.child("mapping"), mapping);
+  read_run(node.child("run"), run);
+  node.reject_unknown_keys();
+}
+
+void VoConfig::validate(const std::filesystem::path& file) const {
+  const auto& f = frontend;
+  require(f.type == "superpoint" || f.type == "orb" || f.type == "shitomasi", file, "frontend.type",
+          "must be superpoint, orb or shitomasi (got '" + f.type + "')");
+  require(f.max_points > 0, file, "frontend.max_points", "must be positive");
+  require(f.grid_cols > 0 && f.grid_rows > 0, file, "frontend.grid_cols", "grid must be at least 1x1");
+  require(f.superpoint_input_scale > 0 && f.superpoint_input_scale <= 1, file,
+          "frontend.superpoint_input_scale", "must be in (0, 1]");
+  require(klt.window_px >= 5 && klt.window_px % 2 == 1, file, "klt.window_px", "must be odd and >= 5");
+  require(klt.levels >= 0 && klt.levels <= 6, file, "klt.levels", "must be in [0, 6]");
+  require(klt.fb_threshold_px > 0, file, "klt.fb_threshold_px", "must be positive");
+  require(keyframes.min_tracked_ratio >= 0 && keyframes.min_tracked_ratio <= 1, file,
+          "keyframes.min_tracked_ratio", "must be in [0, 1]");
+  require(keyframes.max_interval_s > 0, file, "keyframes.max_interval_s", "must be positive");
+  require(keyframes.min_interval_s >= 0 && keyframes.min_interval_s <= keyframes.max_interval_s, file,
+          "keyframes.min_interval_s", "must be in [0, max_interval_s]");
+  require(keyframes.line_angle_change > 0 && keyframes.line_angle_change <= 1, file,
+          "keyframes.line_angle_change", "must be in (0, 1]");
+  require(pose.min_inliers >= 4, file, "pose.min_inliers", "must be at least 4");
+  require(pose.ransac_threshold_px > 0, file, "pose.ransac_threshold_px", "must be positive");
+  require(mapping.matcher == "auto" || mapping.matcher == "lightglue" || mapping.matcher == "mnn", file,
+          "mapping.matcher", "must be auto, lightglue or mnn");
+  require(mapping.window_keyframes >= 2, file, "mapping.window_keyframes", "must be at least 2");
+  require(mapping.fixed_keyframes >= 1 && mapping.fixed_keyframes < mapping.window_keyframes, file,
+          "mapping.fixed_keyframes", "must be in [1, window_keyframes)");
+}
+
+}  // namespace pllvo::vo

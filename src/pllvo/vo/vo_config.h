@@ -1,0 +1,137 @@
+#pragma once
+// Every threshold of the visual-odometry pipeline, with its default and the reason for it.
+// A YAML file (config/vo.yaml) overrides only the keys it names; unknown keys are an error.
+#include <filesystem>
+#include <string>
+
+#include "pllvo/common/yaml_config.h"
+
+namespace pllvo::vo {
+
+/// Point detection + description on keyframes (paper 3.1). One of three front ends.
+struct FrontendConfig {
+  std::string type = "orb";  ///< superpoint | orb | shitomasi
+  int max_points = 400;      ///< per keyframe; 300-500 keeps PnP well conditioned at low cost
+  /// Detection is spread over a grid so points do not cluster on one textured patch.
+  int grid_cols = 8;
+  int grid_rows = 6;
+  /// Minimum distance in pixels between a new point and one already tracked (masking).
+  double min_distance_px = 12.0;
+  // ORB (cv::ORB): pyramid and FAST threshold.
+  int orb_levels = 4;
+  double orb_scale_factor = 1.2;
+  int orb_fast_threshold = 12;  ///< low, so that dim images still give corners
+  // Shi-Tomasi (cv::goodFeaturesToTrack), described with ORB.
+  double shitomasi_quality = 0.005;  ///< relative to the strongest corner; low for low light
+  int shitomasi_block_size = 3;
+  // SuperPoint (nn module): input scale chosen by measurement (see docs/vo.md).
+  std::string superpoint_weights = "";  ///< empty: ../shared/models/superpoint_v1.safetensors
+  double superpoint_input_scale = 0.5;
+  double superpoint_threshold = 0.005;  ///< starting detection threshold
+  bool superpoint_adaptive_threshold = true;
+  int superpoint_nms_radius = 4;
+  /// Contrast stretching (CLAHE) before detection helps in low light; tracking uses raw images.
+  bool equalize = true;
+};
+
+/// Pyramidal Lucas-Kanade tracking of keyframe points, frame to frame.
+struct KltConfig {
+  int window_px = 21;  ///< square window side
+  int levels = 3;      ///< pyramid levels above the base (so 4 images)
+  int max_iterations = 30;
+  double epsilon = 0.01;
+  /// Forward-backward check: a point tracked forward then backward must land within this
+  /// distance of where it started; larger errors mean occlusion or drift.
+  double fb_threshold_px = 1.0;
+  /// Appearance check: the patches at both ends of a track must correlate (NCC) at least
+  /// this much. The FB check alone accepts a wrong track when both directions fall into
+  /// the same local minimum (occlusion by similar texture). -1 switches it off.
+  double min_ncc = 0.75;
+  double min_eigen_threshold = 1e-4;  ///< cv::calcOpticalFlowPyrLK's minEigThreshold
+  double border_px = 4.0;             ///< points closer to the image edge are dropped
+};
+
+/// Keyframe decision (paper 3.3). Every strategy can be switched off for ablations.
+struct KeyframePolicyConfig {
+  // (1) points: too few tracked, or the share of the keyframe's points still tracked falls.
+  bool use_point_trigger = true;
+  int min_tracked_points = 60;
+  double min_tracked_ratio = 0.5;  ///< tracked now / tracked right after the keyframe
+  // (2) time: a keyframe at least every max_interval_s; when the back end is idle, already
+  // after min_interval_s (it has time to spare, and fresh keyframes keep the map dense).
+  bool use_time_trigger = true;
+  double max_interval_s = 1.0;
+  double min_interval_s = 0.25;
+  // (3) lines: the set of line overlap angles compared with the keyframe's set.
+  bool use_line_trigger = true;
+  double line_angle_change = 0.4;    ///< share of angles without a partner in the other set
+  double line_angle_tolerance_deg = 3.0;
+  int line_min_angles = 4;           ///< fewer angles say nothing about the scene
+};
+
+/// Initialisation: monocular two-view (E vs H) or stereo from rectified left-right matches.
+struct InitConfig {
+  int min_points = 50;             ///< tracked points needed to try
+  double mono_min_parallax_deg = 1.0;  ///< median parallax before a two-view attempt
+  double mono_min_flow_px = 20.0;      ///< median image motion before a two-view attempt
+  int max_frames = 60;                 ///< give up on a reference frame after this many frames
+  double stereo_max_epipolar_px = 1.5;  ///< |y_left - y_right| in the rectified pair
+  double min_depth_m = 0.1;
+  double max_depth_m = 60.0;
+  int stereo_min_points = 30;
+};
+
+/// Per-frame pose: PnP RANSAC, then robust refinement with point and line residuals.
+struct PoseConfig {
+  double ransac_threshold_px = 2.0;
+  int ransac_iterations = 100;
+  double ransac_confidence = 0.99;
+  int min_inliers = 12;           ///< below: the frame is lost
+  double huber_px = 1.5;          ///< robust loss scale for point residuals
+  bool use_lines = true;          ///< add line residuals in the refinement
+  double line_weight = 1.0;       ///< relative to point residuals (both in pixels)
+  bool use_motion_prior = true;   ///< predict with the last velocity (constant velocity)
+  int lost_frames_before_reset = 3;  ///< consecutive failures before re-initialising
+};
+
+/// Keyframe processing on the worker: matching, triangulation, sliding-window BA.
+struct MappingConfig {
+  std::string matcher = "auto";   ///< auto (LightGlue if weights exist, else MNN) | lightglue | mnn
+  std::string lightglue_weights = "";
+  double mnn_max_distance = 0.9;  ///< float descriptors (unit norm): L2 distance
+  double orb_ratio = 0.8;         ///< binary descriptors: Lowe ratio test
+  int orb_max_hamming = 64;
+  double min_parallax_deg = 1.0;  ///< triangulation: angle between the two rays
+  double max_reprojection_px = 3.0;
+  double min_depth_m = 0.05;
+  double max_depth_m = 80.0;
+  int window_keyframes = 7;       ///< sliding window of the BA
+  int fixed_keyframes = 2;        ///< oldest keyframes of the window held fixed (gauge)
+  int ba_iterations = 10;
+  double ba_huber_px = 1.5;
+  bool use_lines = true;
+};
+
+/// Everything else: threads, progress, output.
+struct RunConfig {
+  bool threaded = true;        ///< keyframe worker thread; false: deterministic single thread
+  double progress_interval_s = 2.0;  ///< wall time between progress lines (0: none)
+};
+
+struct VoConfig {
+  FrontendConfig frontend;
+  KltConfig klt;
+  KeyframePolicyConfig keyframes;
+  InitConfig init;
+  PoseConfig pose;
+  MappingConfig mapping;
+  RunConfig run;
+
+  /// Defaults overridden by the file; InputError names the file and key of a bad value.
+  static VoConfig load(const std::filesystem::path& file);
+  void read(const ConfigNode& node);
+  /// InputError (key path) for values outside their meaningful range.
+  void validate(const std::filesystem::path& file = {}) const;
+};
+
+}  // namespace pllvo::vo

@@ -1,0 +1,124 @@
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "pllvo/vo/point_frontend.h"
+#include "pllvo/vo/point_tracker.h"
+
+namespace pllvo::vo {
+namespace {
+
+/// Smooth random texture: blurred noise gives corners everywhere at several scales.
+cv::Mat texture(cv::Size size, int seed) {
+  cv::RNG rng(seed);
+  cv::Mat noise(size, CV_32F);
+  rng.fill(noise, cv::RNG::UNIFORM, 0, 255);
+  cv::Mat smooth;
+  cv::GaussianBlur(noise, smooth, cv::Size(0, 0), 2.0);
+  cv::normalize(smooth, smooth, 0, 255, cv::NORM_MINMAX);
+  cv::Mat out;
+  smooth.convertTo(out, CV_8U);
+  return out;
+}
+
+cv::Mat shifted(const cv::Mat& image, double dx, double dy) {
+  const cv::Mat M = (cv::Mat_<double>(2, 3) << 1, 0, dx, 0, 1, dy);
+  cv::Mat out;
+  cv::warpAffine(image, out, M, image.size(), cv::INTER_CUBIC, cv::BORDER_REFLECT);
+  return out;
+}
+
+std::vector<cv::Point2f> grid_points(cv::Size size, int step, int margin) {
+  std::vector<cv::Point2f> pts;
+  for (int y = margin; y < size.height - margin; y += step)
+    for (int x = margin; x < size.width - margin; x += step) pts.emplace_back(x + 0.3f, y + 0.6f);
+  return pts;
+}
+
+TEST(PointTracker, FollowsASubpixelShift) {
+  const cv::Mat a = texture({320, 240}, 1);
+  const double dx = 3.3, dy = -2.1;
+  const cv::Mat b = shifted(a, dx, dy);
+  PointTracker tracker{KltConfig{}};
+  const auto pa = tracker.build_pyramid(a), pb = tracker.build_pyramid(b);
+  const auto pts = grid_points(a.size(), 20, 30);
+  const TrackResult r = tracker.track(pa, pb, pts);
+  ASSERT_EQ(r.points.size(), pts.size());
+  EXPECT_GE(r.tracked(), static_cast<int>(0.95 * pts.size()));
+  for (size_t i = 0; i < pts.size(); ++i) {
+    if (!r.ok[i]) continue;
+    EXPECT_NEAR(r.points[i].x, pts[i].x + dx, 0.1);
+    EXPECT_NEAR(r.points[i].y, pts[i].y + dy, 0.1);
+    EXPECT_LE(r.fb_error[i], KltConfig{}.fb_threshold_px);
+  }
+}
+
+TEST(PointTracker, ForwardBackwardCheckRejectsOccludedPoints) {
+  const cv::Mat a = texture({320, 240}, 2);
+  cv::Mat b = shifted(a, 2.0, 1.0);
+  // An unrelated texture covers the middle of the second image (an occluder).
+  const cv::Rect occluder(100, 70, 120, 100);
+  texture({320, 240}, 99)(occluder).copyTo(b(occluder));
+  PointTracker tracker{KltConfig{}};
+  const auto pts = grid_points(a.size(), 10, 20);
+  const TrackResult r = tracker.track(tracker.build_pyramid(a), tracker.build_pyramid(b), pts);
+  int inside = 0, inside_rejected = 0, outside = 0, outside_kept = 0;
+  const cv::Rect core(occluder.x + 15, occluder.y + 15, occluder.width - 30, occluder.height - 30);
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const cv::Point2f target = pts[i] + cv::Point2f(2.0f, 1.0f);
+    if (core.contains(target)) {
+      ++inside;
+      inside_rejected += !r.ok[i];
+      if (r.ok[i]) EXPECT_LT(cv::norm(r.points[i] - target), 1.5) << "accepted a wrong track at " << pts[i];
+    } else if (!(occluder + cv::Size(20, 20) - cv::Point(10, 10)).contains(target)) {
+      ++outside;
+      outside_kept += r.ok[i];
+      if (r.ok[i]) EXPECT_LT(cv::norm(r.points[i] - target), 0.2);
+    }
+  }
+  ASSERT_GT(inside, 20);
+  EXPECT_GE(inside_rejected, 0.9 * inside);
+  EXPECT_GE(outside_kept, 0.95 * outside);
+}
+
+TEST(PointTracker, DropsPointsLeavingTheImage) {
+  const cv::Mat a = texture({320, 240}, 3);
+  const cv::Mat b = shifted(a, 25.0, 0.0);
+  KltConfig config;
+  PointTracker tracker{config};
+  const std::vector<cv::Point2f> pts = {{300.f, 120.f}, {100.f, 120.f}};
+  const TrackResult r = tracker.track(tracker.build_pyramid(a), tracker.build_pyramid(b), pts);
+  EXPECT_FALSE(r.ok[0]);  // would land at x = 325, outside
+  EXPECT_TRUE(r.ok[1]);
+}
+
+TEST(PointTracker, PredictionReachesMotionBeyondThePyramid) {
+  const cv::Mat a = texture({320, 240}, 4);
+  const cv::Mat b = shifted(a, 45.0, 30.0);
+  KltConfig config;
+  config.levels = 1;  // search range ~ 2 * window: far less than 54 px
+  PointTracker tracker{config};
+  const auto pa = tracker.build_pyramid(a), pb = tracker.build_pyramid(b);
+  std::vector<cv::Point2f> pts = {{100.f, 80.f}, {150.f, 100.f}, {200.f, 120.f}, {120.f, 150.f}};
+  const TrackResult blind = tracker.track(pa, pb, pts);
+  std::vector<cv::Point2f> predicted;
+  for (const auto& p : pts) predicted.push_back(p + cv::Point2f(43.5f, 31.0f));
+  const TrackResult guided = tracker.track(pa, pb, pts, &predicted);
+  EXPECT_EQ(guided.tracked(), 4);
+  for (size_t i = 0; i < pts.size(); ++i) {
+    EXPECT_NEAR(guided.points[i].x, pts[i].x + 45.0, 0.1);
+    EXPECT_NEAR(guided.points[i].y, pts[i].y + 30.0, 0.1);
+  }
+  for (size_t i = 0; i < pts.size(); ++i)
+    if (blind.ok[i]) EXPECT_LT(cv::norm(blind.points[i] - (pts[i] + cv::Point2f(45, 30))), 1.0);
+}
+
+TEST(PointTracker, BlankImagesTrackNothingAndDoNotThrow) {
+  const cv::Mat black(240, 320, CV_8UC1, cv::Scalar(0)), grey(240, 320, CV_8UC1, cv::Scalar(128));
+  PointTracker tracker{KltConfig{}};
+  const auto pts = grid_points(black.size(), 40, 20);
+  const TrackResult r = tracker.track(tracker.build_pyramid(black), tracker.build_pyramid(grey), pts);
+  EXPECT_EQ(r.tracked(), 0);
+}
+
+}  // namespace
+}  // namespace pllvo::vo

@@ -1,0 +1,68 @@
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "pllvo/common/error.h"
+#include "pllvo/vo/vo_config.h"
+
+namespace pllvo::vo {
+namespace {
+
+std::filesystem::path write_yaml(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / ("pllvo_vo_config_" + name + ".yaml");
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
+  // config/vo.yaml documents the defaults: it must restate them exactly.
+  const VoConfig file = VoConfig::load(std::filesystem::path(PLLVO_SOURCE_DIR) / "config/vo.yaml");
+  const VoConfig code;
+  EXPECT_EQ(file.frontend.type, code.frontend.type);
+  EXPECT_EQ(file.frontend.max_points, code.frontend.max_points);
+  EXPECT_DOUBLE_EQ(file.frontend.superpoint_input_scale, code.frontend.superpoint_input_scale);
+  EXPECT_EQ(file.klt.window_px, code.klt.window_px);
+  EXPECT_DOUBLE_EQ(file.klt.fb_threshold_px, code.klt.fb_threshold_px);
+  EXPECT_EQ(file.keyframes.min_tracked_points, code.keyframes.min_tracked_points);
+  EXPECT_DOUBLE_EQ(file.keyframes.max_interval_s, code.keyframes.max_interval_s);
+  EXPECT_DOUBLE_EQ(file.keyframes.min_interval_s, code.keyframes.min_interval_s);
+  EXPECT_DOUBLE_EQ(file.keyframes.line_angle_change, code.keyframes.line_angle_change);
+  EXPECT_EQ(file.init.max_frames, code.init.max_frames);
+  EXPECT_EQ(file.pose.min_inliers, code.pose.min_inliers);
+  EXPECT_EQ(file.mapping.window_keyframes, code.mapping.window_keyframes);
+  EXPECT_EQ(file.mapping.matcher, code.mapping.matcher);
+  EXPECT_EQ(file.run.threaded, code.run.threaded);
+}
+
+TEST(VoConfig, FileOverridesOnlyTheKeysItNames) {
+  const auto path = write_yaml("override", "keyframes:\n  max_interval_s: 2.5\nfrontend:\n  type: shitomasi\n");
+  const VoConfig c = VoConfig::load(path);
+  EXPECT_DOUBLE_EQ(c.keyframes.max_interval_s, 2.5);
+  EXPECT_EQ(c.frontend.type, "shitomasi");
+  EXPECT_EQ(c.keyframes.min_tracked_points, VoConfig().keyframes.min_tracked_points);
+}
+
+TEST(VoConfig, UnknownKeyNamesItsPath) {
+  const auto path = write_yaml("unknown", "klt:\n  windw_px: 15\n");
+  try {
+    VoConfig::load(path);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "klt.windw_px");
+  }
+}
+
+TEST(VoConfig, OutOfRangeValueIsRejected) {
+  const auto path = write_yaml("range", "klt:\n  window_px: 20\n");
+  try {
+    VoConfig::load(path);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "klt.window_px");
+  }
+  EXPECT_THROW(VoConfig::load(write_yaml("type", "frontend:\n  type: sift\n")), InputError);
+  EXPECT_THROW(VoConfig::load(write_yaml("notnum", "pose:\n  min_inliers: many\n")), InputError);
+}
+
+}  // namespace
+}  // namespace pllvo::vo
