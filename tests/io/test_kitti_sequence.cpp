@@ -29,7 +29,7 @@ fs::path make_kitti_copy(const fs::path& root, const std::string& id, size_t fra
 }  // namespace
 
 TEST(KittiSequence, LoadsFixtureFromRootAndFromSequenceFolder) {
-  for (const auto* path : {"kitti_04_mono51", "kitti_04_mono51/sequences/04"}) {
+  for (const auto* path : {"kitti_04_mono51", "kitti_04_mono51/sequences/04", "kitti_04_mono51/sequences/04/"}) {
     SCOPED_TRACE(path);
     const auto seq = open_sequence(data_path(path));
     EXPECT_EQ(seq->format(), "kitti");
@@ -47,6 +47,8 @@ TEST(KittiSequence, LoadsFixtureFromRootAndFromSequenceFolder) {
     EXPECT_EQ(seq->timestamp(0), 0.0);
     EXPECT_EQ(seq->timestamp(50), 5.0);
     EXPECT_NEAR(calib.rate_hz, 10.0, 1e-12);
+    ASSERT_TRUE(seq->ground_truth().has_value());  // poses/04.txt found from any spelling
+    EXPECT_EQ(seq->ground_truth()->size(), 51u);
   }
 }
 

@@ -85,7 +85,10 @@ KittiCalibration read_kitti_calib(const fs::path& file) {
 
 KittiSequence::KittiSequence(const fs::path& root, const SequenceOptions& options) : Sequence(root) {
   if (!fs::is_directory(root)) throw InputError(root, "dataset folder not found");
-  const fs::path seq = sequence_folder(fs::absolute(root).lexically_normal());
+  // poses/XX.txt is found from the folder's name, so "sequences/04/" and "." must name it too.
+  fs::path normal = fs::absolute(root).lexically_normal();
+  if (normal.filename().empty()) normal = normal.parent_path();
+  const fs::path seq = sequence_folder(normal);
   const KittiCalibration calib = read_kitti_calib(seq / "calib.txt");
 
   const fs::path times = seq / "times.txt";
