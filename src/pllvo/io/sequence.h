@@ -1,10 +1,12 @@
 #pragma once
 // One interface for every dataset: timestamped grayscale frames (mono or stereo),
 // calibration and optional ground truth. Images are loaded lazily, one frame at a time.
+// Conventions: timestamps in seconds; ground truth as T_world_cam0 (see docs/datasets.md).
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
@@ -23,11 +25,17 @@ struct Frame {
 
 struct Calibration {
   camera::CameraPtr cam0;
-  camera::CameraPtr cam1;  ///< null for mono
+  camera::CameraPtr cam1;  ///< null for mono (also when SequenceOptions::mono is set)
+  /// Camera poses in the dataset's body frame (EuRoC: T_BS of each sensor.yaml; KITTI:
+  /// body = cam0, cam1 at +baseline along x; mono formats: identity).
   Eigen::Isometry3d T_body_cam0 = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_body_cam1 = Eigen::Isometry3d::Identity();
-  double rate_hz = 0;  ///< nominal, 0 when unknown
+  /// The dataset's stated frame rate (EuRoC rate_hz, camera YAML `fps`); when it states
+  /// none, the mean rate of the timestamps; 0 for a single frame.
+  double rate_hz = 0;
   bool stereo() const { return cam1 != nullptr; }
+  /// Distance between the two optical centres in metres (0 for mono).
+  double baseline() const;
 };
 
 class Sequence {
@@ -37,10 +45,14 @@ class Sequence {
   const std::filesystem::path& root() const { return root_; }
   const Calibration& calibration() const { return calib_; }
   size_t size() const { return stamps_.size(); }
+  bool empty() const { return stamps_.empty(); }
   double timestamp(size_t i) const { return stamps_.at(i); }
-  /// Loads frame i; InputError naming the image file when it is unreadable or its size
-  /// differs from the calibration.
-  virtual Frame frame(size_t i) const = 0;
+  const std::vector<double>& timestamps() const { return stamps_; }
+  /// Image file of frame i for camera 0 (left) or 1 (right); empty when not file-backed.
+  std::filesystem::path image_path(size_t i, int cam = 0) const;
+  /// Loads frame i as 8-bit gray (colour and 16-bit images are converted); InputError
+  /// naming the image file when it is unreadable or its size differs from the calibration.
+  virtual Frame frame(size_t i) const;
   /// Ground truth as T_world_cam0, when the dataset has it.
   const std::optional<Trajectory>& ground_truth() const { return ground_truth_; }
 
@@ -49,6 +61,8 @@ class Sequence {
   std::filesystem::path root_;
   Calibration calib_;
   std::vector<double> stamps_;
+  std::vector<std::filesystem::path> left_files_;   ///< one per frame
+  std::vector<std::filesystem::path> right_files_;  ///< one per frame when stereo, else empty
   std::optional<Trajectory> ground_truth_;
 };
 
@@ -57,6 +71,10 @@ struct SequenceOptions {
   /// Camera YAML for formats that ship none (TUM, folder); default: `camera.yaml` in the root.
   std::filesystem::path camera_yaml;
   bool mono = false;  ///< ignore the second camera of a stereo dataset
+  /// EuRoC stereo: a cam0 frame is paired with the cam1 frame nearest in time when they
+  /// are at most this far apart (seconds); cam0 frames without a partner are dropped
+  /// with a warning. EuRoC's cameras are hardware-synchronised (identical stamps).
+  double stereo_max_dt = 1e-3;
 };
 
 /// Opens a dataset folder, detecting the format when `options.format` is "auto".
@@ -64,5 +82,9 @@ struct SequenceOptions {
 /// empty sequence or timestamps out of order.
 std::unique_ptr<Sequence> open_sequence(const std::filesystem::path& root,
                                         const SequenceOptions& options = {});
+
+/// The format open_sequence would pick for `root` ("euroc", "tum", "kitti", "folder");
+/// InputError naming the folder when it is missing or matches no layout.
+std::string detect_format(const std::filesystem::path& root);
 
 }  // namespace pllvo::io
