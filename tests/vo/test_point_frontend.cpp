@@ -38,17 +38,42 @@ TEST_P(Frontends, DetectsAtMostTheBudgetSpreadOverTheImage) {
   for (int q : quadrant) EXPECT_GE(q, static_cast<int>(f.size()) / 8);
 }
 
-TEST_P(Frontends, KeepsAwayFromOccupiedPoints) {
+TEST_P(Frontends, DescribesTrackedPointsWhereTheyAreAndDetectsAwayFromThem) {
   FrontendConfig config;
   config.type = GetParam();
   config.min_distance_px = 15;
+  config.max_points = 100;
   auto frontend = make_point_frontend(config);
   const cv::Mat img = checkerboard_with_noise({640, 480});
-  const std::vector<cv::Point2f> occupied = {{320, 240}, {100, 100}, {500, 400}};
-  const PointFeatures f = frontend->detect(img, occupied);
-  ASSERT_FALSE(f.empty());
-  for (const auto& p : f.points)
-    for (const auto& o : occupied) EXPECT_GE(cv::norm(p - o), 14.0);
+  // The second point is too close to the border for a descriptor patch.
+  const std::vector<cv::Point2f> tracked = {{320.5f, 240.25f}, {3.f, 100.f}, {100.f, 100.f}, {500.f, 400.f}};
+  const PointFeatures f = frontend->detect(img, tracked);
+  ASSERT_EQ(f.source.size(), f.size());
+  ASSERT_EQ(f.descriptors.rows, static_cast<int>(f.size()));
+  std::vector<int> described;
+  for (size_t i = 0; i < f.size(); ++i) {
+    if (f.source[i] < 0) continue;
+    described.push_back(f.source[i]);
+    EXPECT_EQ(f.points[i], tracked[f.source[i]]);
+  }
+  EXPECT_EQ(described, (std::vector<int>{0, 2, 3}));
+  const size_t fresh = f.size() - described.size();
+  EXPECT_GE(fresh, 80u);
+  EXPECT_LE(f.size(), 100u);
+  for (size_t i = 0; i < f.size(); ++i) {
+    if (f.source[i] >= 0) continue;
+    for (const auto& o : tracked) EXPECT_GE(cv::norm(f.points[i] - o), 14.0);
+  }
+  // A tracked point is described the same way each time.
+  const PointFeatures g = frontend->detect(img, tracked);
+  ASSERT_EQ(g.source[0], 0);
+  EXPECT_EQ(cv::norm(g.descriptors.row(0), f.descriptors.row(0), cv::NORM_HAMMING), 0.0);
+  if (GetParam() == "shitomasi") {
+    // Single-scale detection: a fresh corner, once tracked, keeps its descriptor.
+    const PointFeatures h = frontend->detect(img, {f.points[f.size() - 1]});
+    ASSERT_EQ(h.source[0], 0);
+    EXPECT_EQ(cv::norm(h.descriptors.row(0), f.descriptors.row(f.size() - 1), cv::NORM_HAMMING), 0.0);
+  }
 }
 
 TEST_P(Frontends, BlankAndBlackImagesGiveNoPoints) {

@@ -1,6 +1,6 @@
 #pragma once
 // The classical point front ends used as baselines: ORB (ORB-SLAM style) and Shi-Tomasi
-// corners described with ORB (VINS style detection, so keyframes can still be matched).
+// corners (VINS style) described with ORB, so keyframes can be matched either way.
 #include <opencv2/features2d.hpp>
 
 #include "pllvo/vo/point_frontend.h"
@@ -11,7 +11,7 @@ class OrbFrontend final : public PointFrontend {
  public:
   explicit OrbFrontend(const FrontendConfig& config);
   std::string name() const override { return "orb"; }
-  PointFeatures detect(const cv::Mat& image, const std::vector<cv::Point2f>& occupied) override;
+  PointFeatures detect(const cv::Mat& image, const std::vector<cv::Point2f>& tracked) override;
 
  private:
   FrontendConfig config_;
@@ -22,7 +22,7 @@ class ShiTomasiFrontend final : public PointFrontend {
  public:
   explicit ShiTomasiFrontend(const FrontendConfig& config);
   std::string name() const override { return "shitomasi"; }
-  PointFeatures detect(const cv::Mat& image, const std::vector<cv::Point2f>& occupied) override;
+  PointFeatures detect(const cv::Mat& image, const std::vector<cv::Point2f>& tracked) override;
 
  private:
   FrontendConfig config_;

@@ -1,15 +1,13 @@
 #include "pllvo/vo/keyframe_processor.h"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include <spdlog/spdlog.h>
 
 namespace pllvo::vo {
 namespace {
-
-/// A KLT track and a fresh detection closer than this (pixels) are the same point.
-constexpr double kFuseRadiusPx = 3.0;
 
 Eigen::Vector2d to_eigen(const cv::Point2f& p) { return {p.x, p.y}; }
 
@@ -35,32 +33,6 @@ PointFeatures KeyframeProcessor::detect(const cv::Mat& image) {
 void KeyframeProcessor::start_segment() {
   ++segment_;
   segment_keyframes_.clear();
-}
-
-void KeyframeProcessor::associate_tracks(const std::vector<TrackedPoint>& tracks, const PointFeatures& features,
-                                         std::vector<Id>& ids) const {
-  struct Pair {
-    float d2;
-    int track, feature;
-  };
-  std::vector<Pair> pairs;
-  const float r2 = static_cast<float>(kFuseRadiusPx * kFuseRadiusPx);
-  for (int t = 0; t < static_cast<int>(tracks.size()); ++t) {
-    if (tracks[t].point == kNoId) continue;
-    for (int f = 0; f < static_cast<int>(features.size()); ++f) {
-      const cv::Point2f d = features.points[f] - tracks[t].px;
-      const float d2 = d.dot(d);
-      if (d2 <= r2) pairs.push_back({d2, t, f});
-    }
-  }
-  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.d2 < b.d2; });
-  std::set<Id> used;
-  for (const auto& p : pairs) {
-    const Id id = tracks[p.track].point;
-    if (ids[p.feature] != kNoId || used.count(id)) continue;
-    ids[p.feature] = id;
-    used.insert(id);
-  }
 }
 
 std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::stereo_points(const KeyframeJob& job,
@@ -93,13 +65,24 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& job) {
   PointFeatures features;
   {
     ScopedTimer t(stats_, "kf_detect");
-    features = frontend_->detect(job.left);
+    std::vector<cv::Point2f> tracked;
+    tracked.reserve(job.tracks.size());
+    for (const auto& tp : job.tracks) tracked.push_back(tp.px);
+    features = frontend_->detect(job.left, tracked);
   }
   const size_t n = features.size();
   std::vector<Id> ids(n, kNoId);
   std::vector<Observation> origins(n);  // kNoId: the keyframe itself (set when added)
   std::vector<int> prev_index(n, -1);   // matched feature in the previous keyframe
-  associate_tracks(job.tracks, features, ids);
+  for (size_t i = 0; i < n; ++i) {
+    const int s = features.source.empty() ? -1 : features.source[i];
+    if (s < 0) continue;
+    const TrackedPoint& tp = job.tracks[s];
+    if (tp.point != kNoId)
+      ids[i] = tp.point;
+    else
+      origins[i] = tp.origin;
+  }
 
   const bool has_prev = !job.first && !segment_keyframes_.empty();
   if (has_prev) {
@@ -115,7 +98,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& job) {
       if (ids[mt.b] != kNoId) continue;
       if (pid != kNoId) {
         if (!used.count(pid)) ids[mt.b] = pid, used.insert(pid);
-      } else {
+      } else if (origins[mt.b].keyframe == kNoId) {
         origins[mt.b] = prev.origins[mt.a];
       }
     }
@@ -228,7 +211,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& job) {
   map_.read([&](const MapData& m) {
     const auto& kf = m.keyframes.at(kid);
     for (size_t i = 0; i < kf.point_ids.size(); ++i)
-      if (kf.point_ids[i] != kNoId) result.tracks.push_back({kf.features.points[i], kf.point_ids[i]});
+      result.tracks.push_back({kf.features.points[i], kf.point_ids[i], kf.origins[i]});
   });
   spdlog::debug("keyframe {} (frame {}, {}): {} features, {} matches, {} new points, {} tracked", kid,
                 job.frame_index, to_string(job.reason), n, result.matches, new_points, result.tracks.size());
@@ -237,9 +220,8 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& job) {
 
 KeyframeResult KeyframeProcessor::initialize_mono(const KeyframeJob& reference, const PointFeatures& ref_features,
                                                   const std::vector<std::optional<Eigen::Vector3d>>& ref_points_world,
-                                                  const KeyframeJob& second) {
-  KeyframeJob job = second;
-  job.tracks.clear();
+                                                  KeyframeJob second, const std::vector<cv::Point2f>& second_px) {
+  second.tracks.clear();
   Id kid = kNoId;
   map_.write([&](MapData& m) {
     Keyframe kf;
@@ -250,19 +232,23 @@ KeyframeResult KeyframeProcessor::initialize_mono(const KeyframeJob& reference, 
     kf.segment = segment_;
     kf.features = ref_features;
     kid = m.add_keyframe(std::move(kf));
-    for (size_t i = 0; i < ref_points_world.size(); ++i) {
-      if (!ref_points_world[i]) continue;
-      const Id pid = m.add_point(*ref_points_world[i]);
-      m.observe_point(pid, kid, static_cast<int>(i));
-      // `second.tracks[i]` is feature i of the reference followed into the second frame.
-      if (i < second.tracks.size()) job.tracks.push_back({second.tracks[i].px, pid});
+    for (size_t i = 0; i < ref_features.size(); ++i) {
+      if (i >= second_px.size() || std::isnan(second_px[i].x)) continue;
+      TrackedPoint tp;
+      tp.px = second_px[i];
+      tp.origin = {kid, static_cast<int>(i)};
+      if (i < ref_points_world.size() && ref_points_world[i]) {
+        tp.point = m.add_point(*ref_points_world[i]);
+        m.observe_point(tp.point, kid, static_cast<int>(i));
+      }
+      second.tracks.push_back(tp);
     }
   });
   segment_keyframes_.push_back(kid);
   stats_.add_count("keyframes");
   stats_.add_count("keyframes." + to_string(KeyframeReason::kInitialization));
-  job.reason = KeyframeReason::kInitialization;
-  return process(job);
+  second.reason = KeyframeReason::kInitialization;
+  return process(second);
 }
 
 }  // namespace pllvo::vo

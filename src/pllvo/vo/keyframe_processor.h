@@ -17,10 +17,12 @@
 
 namespace pllvo::vo {
 
-/// A point followed into a frame, with its map point (kNoId while it has none).
+/// A point followed into a frame: either of a map point, or a candidate (no map point yet)
+/// remembered by its first keyframe observation, from which it will be triangulated.
 struct TrackedPoint {
   cv::Point2f px;
   Id point = kNoId;
+  Observation origin;  ///< candidates: keyframe and feature where the track began
 };
 
 struct KeyframeJob {
@@ -30,7 +32,7 @@ struct KeyframeJob {
   ImagePyramid left_pyramid;   ///< built by the tracker for this frame
   geometry::Pose T_world_cam = geometry::Pose::Identity();
   KeyframeReason reason = KeyframeReason::kNone;
-  std::vector<TrackedPoint> tracks;  ///< KLT tracks in this frame
+  std::vector<TrackedPoint> tracks;  ///< KLT tracks in this frame (map points and candidates)
   bool first = false;                ///< first keyframe of a map segment (stereo initialisation)
 };
 
@@ -38,7 +40,7 @@ struct KeyframeResult {
   bool ok = false;
   Id keyframe = kNoId;
   size_t frame_index = 0;
-  std::vector<TrackedPoint> tracks;  ///< the keyframe's points that have a map point
+  std::vector<TrackedPoint> tracks;  ///< the keyframe's points: map points and candidates
   int matches = 0;                   ///< descriptor matches with the previous keyframe
   int new_points = 0;
 };
@@ -52,10 +54,11 @@ class KeyframeProcessor {
   KeyframeResult process(const KeyframeJob& job);
 
   /// Monocular initialisation: adds the reference keyframe (already detected features,
-  /// `ref_points` per feature or nullopt) and then processes `second` as a keyframe.
+  /// a triangulated point or nullopt per feature) and then processes `second` as a keyframe;
+  /// `second_px[i]` is reference feature i followed into the second frame (NaN when lost).
   KeyframeResult initialize_mono(const KeyframeJob& reference, const PointFeatures& ref_features,
                                  const std::vector<std::optional<Eigen::Vector3d>>& ref_points_world,
-                                 const KeyframeJob& second);
+                                 KeyframeJob second, const std::vector<cv::Point2f>& second_px);
 
   /// Detection for the tracker's own use (monocular initialisation); not thread-safe with process().
   PointFeatures detect(const cv::Mat& image);
@@ -66,8 +69,6 @@ class KeyframeProcessor {
   const std::string& frontend_name() const { return frontend_name_; }
 
  private:
-  void associate_tracks(const std::vector<TrackedPoint>& tracks, const PointFeatures& features,
-                        std::vector<Id>& ids) const;
   std::vector<std::optional<Eigen::Vector3d>> stereo_points(const KeyframeJob& job, const PointFeatures& features,
                                                             const std::vector<Id>& ids);
 

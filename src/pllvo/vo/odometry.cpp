@@ -18,6 +18,11 @@ constexpr size_t kMaxBufferedPyramids = 40;
 
 Eigen::Vector2d to_eigen(const cv::Point2f& p) { return {p.x, p.y}; }
 
+int count_mapped(const std::vector<TrackedPoint>& tracks) {
+  return static_cast<int>(
+      std::count_if(tracks.begin(), tracks.end(), [](const TrackedPoint& t) { return t.point != kNoId; }));
+}
+
 double median(std::vector<double> v) {
   if (v.empty()) return 0;
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
@@ -79,7 +84,7 @@ FrameRecord Odometry::process(const io::Frame& frame) {
   record.segment = processor_.segment();
   if (tracked) {
     record.T_world_cam = to_output(T_world_work_);
-    if (record.tracked_points == 0) record.tracked_points = static_cast<int>(tracks_.size());
+    if (record.tracked_points == 0) record.tracked_points = count_mapped(tracks_);
   }
   stats_.add_count("frames");
   if (tracked) stats_.add_count("tracked_frames");
@@ -169,6 +174,7 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   const geometry::Pose T_world_ref = T_world_work_;
   const geometry::Pose T_world_cur = T_world_ref * two_view.T_1_0.inverse();
   std::vector<std::optional<Eigen::Vector3d>> ref_points(ref.features.size());
+  std::vector<cv::Point2f> second_px(ref.features.size(), cv::Point2f(NAN, NAN));
   KeyframeJob second;
   second.frame_index = frame.index;
   second.timestamp = frame.timestamp;
@@ -176,12 +182,11 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   second.left_pyramid = pyramid;
   second.T_world_cam = T_world_cur;
   second.reason = KeyframeReason::kInitialization;
-  second.tracks.resize(ref.features.size());
   int made = 0;
   for (size_t k = 0, j = 0; k < which.size(); ++k) {
     const int i = which[k];
     if (!tr.ok[k]) continue;
-    second.tracks[i].px = tr.points[k];
+    second_px[i] = tr.points[k];
     if (two_view.valid[j]) ref_points[i] = T_world_ref * two_view.points_0[j], ++made;
     ++j;
   }
@@ -190,7 +195,7 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   reference.timestamp = ref.timestamp;
   reference.left = ref.image;
   reference.T_world_cam = T_world_ref;
-  const KeyframeResult result = processor_.initialize_mono(reference, ref.features, ref_points, second);
+  const KeyframeResult result = processor_.initialize_mono(reference, ref.features, ref_points, second, second_px);
   mono_.reset();
   if (!result.ok) return false;
   T_world_work_ = T_world_cur;
@@ -206,7 +211,7 @@ void Odometry::start_tracking(const KeyframeResult& result, double timestamp) {
   has_velocity_ = false;
   velocity_ = geometry::Pose::Identity();
   lost_frames_ = 0;
-  policy_.start_keyframe(timestamp, static_cast<int>(tracks_.size()));
+  policy_.start_keyframe(timestamp, count_mapped(tracks_));
 }
 
 // ---------------------------------------------------------------- tracking
@@ -257,13 +262,24 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     if (estimate.ok) estimate = refine_pose(camera_, estimate.T_cam_world, pts, px, estimate.inliers, {}, config_.pose);
   }
 
-  // Keep the tracks that survived KLT (and, on success, the pose's inlier test).
+  // Keep the tracks that survived KLT (and, on success, the pose's inlier test); candidates
+  // (no map point yet) only need KLT.
   std::vector<TrackedPoint> kept;
   for (size_t k = 0; k < which.size(); ++k) {
     if (estimate.ok && !estimate.inliers[k]) continue;
-    kept.push_back({tr.points[which[k]], tracks_[which[k]].point});
+    TrackedPoint tp = tracks_[which[k]];
+    tp.px = tr.points[which[k]];
+    kept.push_back(tp);
+  }
+  for (size_t i = 0; i < tracks_.size(); ++i) {
+    if (known[i] || tracks_[i].point != kNoId || !tr.ok[i]) continue;
+    TrackedPoint tp = tracks_[i];
+    tp.px = tr.points[i];
+    kept.push_back(tp);
   }
   tracks_ = std::move(kept);
+  spdlog::debug("frame {}: {} map points followed, {} pose inliers, {} tracks kept", frame.index, pts.size(),
+                estimate.ok ? estimate.num_inliers : 0, tracks_.size());
 
   if (!estimate.ok) {
     spdlog::debug("frame {}: pose failed ({} tracked points)", frame.index, pts.size());
@@ -342,7 +358,7 @@ void Odometry::apply_keyframe_results() {
       const TrackResult tr = tracker_.track(*from, pyr, pts);
       std::vector<TrackedPoint> next;
       for (size_t i = 0; i < fresh.size(); ++i)
-        if (tr.ok[i]) next.push_back({tr.points[i], fresh[i].point});
+        if (tr.ok[i]) next.push_back({tr.points[i], fresh[i].point, fresh[i].origin});
       fresh = std::move(next);
       from = &pyr;
     }
@@ -353,7 +369,7 @@ void Odometry::apply_keyframe_results() {
     for (const auto& f : fresh) present.insert(f.point);
     const float min_d2 = static_cast<float>(config_.frontend.min_distance_px * config_.frontend.min_distance_px) / 4;
     for (const auto& old : tracks_) {
-      if (present.count(old.point)) continue;
+      if (old.point == kNoId || present.count(old.point)) continue;
       bool close = false;
       for (const auto& f : fresh) {
         const cv::Point2f d = f.px - old.px;
@@ -365,7 +381,7 @@ void Odometry::apply_keyframe_results() {
       if (!close) fresh.push_back(old), present.insert(old.point);
     }
     tracks_ = std::move(fresh);
-    policy_.set_reference_points(static_cast<int>(tracks_.size()));
+    policy_.set_reference_points(count_mapped(tracks_));
   }
   if (pending_keyframe_frames_.empty()) {
     pyramid_buffer_.clear();

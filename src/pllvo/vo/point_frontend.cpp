@@ -17,6 +17,7 @@ void PointFeatures::append(const PointFeatures& other) {
     throw InternalError("PointFeatures::append: descriptor layouts differ");
   points.insert(points.end(), other.points.begin(), other.points.end());
   scores.insert(scores.end(), other.scores.begin(), other.scores.end());
+  source.insert(source.end(), other.source.begin(), other.source.end());
   if (descriptors.empty())
     descriptors = other.descriptors.clone();
   else

@@ -16,6 +16,9 @@ struct PointFeatures {
   std::vector<cv::Point2f> points;  ///< pixels of the input image
   std::vector<float> scores;        ///< detector response, larger is better
   cv::Mat descriptors;              ///< rows == points.size()
+  /// Per point: its index in the `tracked` list given to detect() when it is a tracked point
+  /// described where it is, -1 for a new detection.
+  std::vector<int> source;
 
   size_t size() const { return points.size(); }
   bool empty() const { return points.empty(); }
@@ -28,10 +31,12 @@ class PointFrontend {
  public:
   virtual ~PointFrontend() = default;
   virtual std::string name() const = 0;
-  /// New points on `image` (CV_8UC1): at most the configured number, spread over a grid,
-  /// none closer than the configured distance to a point in `occupied`. Any image, also a
-  /// black or flat one, is fine: it just yields few or no points.
-  virtual PointFeatures detect(const cv::Mat& image, const std::vector<cv::Point2f>& occupied = {}) = 0;
+  /// Keyframe features on `image` (CV_8UC1): the `tracked` points described where they are
+  /// (those that can be described: a descriptor needs a patch inside the image), then new
+  /// detections spread over a grid, none closer than the configured distance to a tracked
+  /// point, up to the configured total. Any image, also a black or flat one, is fine: it just
+  /// yields few or no points.
+  virtual PointFeatures detect(const cv::Mat& image, const std::vector<cv::Point2f>& tracked = {}) = 0;
 };
 
 /// The front end named by `config.type`; InputError when it cannot be built (e.g. missing weights).

@@ -1,0 +1,82 @@
+// pllvo run DATASET --out DIR: the visual odometry over a whole sequence.
+#include <cstdio>
+#include <optional>
+
+#include "commands.h"
+#include "pllvo/common/error.h"
+#include "pllvo/io/sequence.h"
+#include "pllvo/vo/run_sequence.h"
+#include "pllvo/vo/vo_config.h"
+
+namespace pllvo::cli {
+
+namespace {
+
+struct RunArgs {
+  std::string dataset;
+  std::string out;
+  std::string config;
+  std::string format = "auto";
+  std::string camera;
+  std::string frontend;
+  bool mono = false;
+  bool single_thread = false;
+  size_t first = 0;
+  size_t max_frames = 0;
+};
+
+void run(const RunArgs& a) {
+  vo::VoConfig config;
+  if (!a.config.empty()) config = vo::VoConfig::load(a.config);
+  if (!a.frontend.empty()) config.frontend.type = a.frontend;
+  if (a.single_thread) config.run.threaded = false;
+  config.validate(a.config);
+
+  io::SequenceOptions options;
+  options.format = a.format;
+  options.camera_yaml = a.camera;
+  options.mono = a.mono;
+  const auto sequence = io::open_sequence(a.dataset, options);
+
+  vo::RunOptions run_options;
+  run_options.out_dir = a.out;
+  run_options.stereo = !a.mono;
+  run_options.first_frame = a.first;
+  run_options.max_frames = a.max_frames;
+  run_options.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  const auto s = vo::run_sequence(*sequence, config, run_options);
+
+  std::printf("%s, %s, %s front end: %zu frames in %.2f s (%.1f frames/s)\n", sequence->format().c_str(),
+              s.stereo ? "stereo" : "mono", config.frontend.type.c_str(), s.frames, s.wall_seconds,
+              s.frames_per_second);
+  std::printf("tracked %zu of %zu frames, %zu keyframes, %d re-initialisations, %zu lost intervals\n",
+              s.tracked_frames, s.frames, s.keyframes, s.resets, s.lost.size());
+  for (const auto& l : s.lost)
+    std::printf("  not tracked: frames %zu-%zu (t %.3f-%.3f s)\n", l.first_frame, l.last_frame, l.first_time,
+                l.last_time);
+  std::printf("outputs: %s/{trajectory.tum, keyframes.tum, stats.json, map.ply}\n", a.out.c_str());
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app) {
+  auto args = std::make_shared<RunArgs>();
+  auto* cmd = app.add_subcommand("run", "visual odometry over a dataset: trajectory, keyframes, map and stats");
+  cmd->add_option("dataset", args->dataset, "dataset folder (EuRoC ASL, TUM RGB-D, KITTI odometry, image folder)")
+      ->required();
+  cmd->add_option("--out", args->out, "output folder (created)")->required();
+  cmd->add_option("--config", args->config, "VO config YAML (defaults: config/vo.yaml documents them)");
+  cmd->add_option("--format", args->format, "dataset format")
+      ->check(CLI::IsMember({"auto", "euroc", "tum", "kitti", "folder"}));
+  cmd->add_option("--camera", args->camera, "camera YAML for TUM / image folders (default: camera.yaml inside)");
+  cmd->add_flag("--mono", args->mono, "use the left camera only, also on stereo datasets");
+  cmd->add_option("--frontend", args->frontend, "point front end (overrides the config)")
+      ->check(CLI::IsMember({"superpoint", "orb", "shitomasi"}));
+  cmd->add_flag("--single-thread", args->single_thread,
+                "process keyframes inline (deterministic; slower)");
+  cmd->add_option("--first", args->first, "first frame index");
+  cmd->add_option("--max-frames", args->max_frames, "process at most this many frames (0: all)");
+  cmd->callback([args] { run(*args); });
+}
+
+}  // namespace pllvo::cli
