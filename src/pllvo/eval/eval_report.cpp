@@ -1,5 +1,6 @@
 #include "pllvo/eval/eval_report.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <numbers>
@@ -26,10 +27,8 @@ std::string format(const char* fmt, auto... args) {
 }
 
 std::string delta_text(const PairOptions& rpe) {
-  std::string s = rpe.unit == DeltaUnit::frames ? std::to_string(static_cast<long>(rpe.delta)) : format("%g", rpe.delta);
-  s += " " + std::string(delta_unit_name(rpe.unit));
-  s += rpe.all_pairs ? ", all pairs" : ", consecutive pairs";
-  return s;
+  return format(rpe.unit == DeltaUnit::frames ? "%.0f %s, %s" : "%g %s, %s", rpe.delta,
+                std::string(delta_unit_name(rpe.unit)).c_str(), rpe.all_pairs ? "all pairs" : "consecutive pairs");
 }
 
 nlohmann::json stats_json(const Statistics& s) {
@@ -98,19 +97,22 @@ std::string format_report(const EvalReport& report) {
                   p.origin_alignment->translation().x(), p.origin_alignment->translation().y(),
                   p.origin_alignment->translation().z());
   out += "\n";
-  out += format("%-6s %-28s %-10s %7s %12s %12s %12s %12s %12s %12s %12s\n", "metric", "relation", "unit", "n",
-                "rmse", "mean", "median", "std", "min", "max", "sse");
+  int relation_width = 8;
+  for (const auto& r : report.results)
+    relation_width = std::max(relation_width, static_cast<int>(pose_relation_name(r.relation).size()));
+  out += format("%-6s %-*s %-9s %6s %10s %10s %10s %10s %10s %10s %10s\n", "metric", relation_width, "relation",
+                "unit", "n", "rmse", "mean", "median", "std", "min", "max", "sse");
   for (const auto& r : report.results) {
     const auto& s = r.stats;
-    out += format("%-6s %-28s %-10s %7zu %12.6g %12.6g %12.6g %12.6g %12.6g %12.6g %12.6g\n",
-                  metric_name(r.metric).c_str(), std::string(pose_relation_name(r.relation)).c_str(),
+    out += format("%-6s %-*s %-9s %6zu %10.5g %10.5g %10.5g %10.5g %10.5g %10.5g %10.5g\n",
+                  metric_name(r.metric).c_str(), relation_width, std::string(pose_relation_name(r.relation)).c_str(),
                   std::string(unit_name(r.relation)).c_str(), r.errors.size(), s.rmse, s.mean, s.median, s.std,
                   s.min, s.max, s.sse);
   }
   for (const auto& r : report.results)
     if (r.metric == Metric::rpe) {
-      out += "\nRPE pairs: delta " + delta_text(req.options.rpe) + ", selected on the " +
-             (req.options.pairs_from_reference ? "reference" : "estimate") + "\n";
+      out += format("\nRPE: %zu pose pairs, delta %s, selected on the %s\n", r.pairs.size(),
+                    delta_text(req.options.rpe).c_str(), req.options.pairs_from_reference ? "reference" : "estimate");
       break;
     }
   return out;
@@ -164,9 +166,13 @@ nlohmann::json report_to_json(const EvalReport& report) {
   return j;
 }
 
-void write_json_file(const nlohmann::json& json, const fs::path& file) {
+void check_output_folder(const fs::path& file) {
   if (file.has_parent_path() && !fs::is_directory(file.parent_path()))
     throw InputError(file, "cannot write: folder " + file.parent_path().string() + " does not exist");
+}
+
+void write_json_file(const nlohmann::json& json, const fs::path& file) {
+  check_output_folder(file);
   const fs::path tmp = file.string() + ".tmp" + std::to_string(::getpid());
   {
     std::ofstream out(tmp);

@@ -36,6 +36,9 @@ std::string format_report(const EvalReport& report);
 
 nlohmann::json report_to_json(const EvalReport& report);
 
+/// InputError naming `file` when its folder does not exist (checked before a long run).
+void check_output_folder(const std::filesystem::path& file);
+
 /// Writes to a temporary file beside `file` and renames it, so a reader never sees half a file.
 void write_json_file(const nlohmann::json& json, const std::filesystem::path& file);
 

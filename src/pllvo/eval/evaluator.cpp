@@ -74,7 +74,7 @@ PreparedTrajectories Evaluator::prepare(const io::Trajectory& ref, const io::Tra
     out.est = est.poses;
   } else {
     throw InputError(std::string("cannot associate: the ") + (ref.has_stamps() ? "estimate" : "reference") +
-                     " has no timestamps (KITTI) and the other one has");
+                     " has no timestamps (KITTI) but the other file has: both must be timestamped, or both KITTI");
   }
   if (out.ref.size() < options_.min_poses) {
     const auto& a = options_.association;
