@@ -181,3 +181,23 @@ TEST_F(EvalCli, AsyncRpeInMetresMatchesEvo) {
 }
 
 }  // namespace
+
+namespace {
+
+// e6_short has exactly 3 poses that associate with --t-offset 0.03: the CLI's minimum of 3 lets
+// it through with evo's numbers. Without the offset only 2 associate: a clear error, exit 2.
+TEST_F(EvalCli, ThreeAssociatedPosesAreEnoughTwoAreNot) {
+  const auto v = pllvo::shared_path("testvectors/eval");
+  const auto est = (v / "est_e6_short.txt").string(), ref = (v / "ref.txt").string();
+  const auto out = dir_ / "e6.json";
+  const auto r = run_cli("eval " + est + " " + ref + " --metric ape --relation angle_deg --align se3 --t-offset 0.03"
+                         " --json " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json& exp = evo_case("ape_tum_e6_short_angle_deg_se3");
+  const json got = read_json(out);
+  EXPECT_EQ(got.at("association").at("num_matches"), 3);
+  expect_stats(got.at("results")[0].at("stats"), exp.at("stats"));
+  expect_input_error("eval " + est + " " + ref, "only 2 pose(s) to compare, at least 3 are needed");
+}
+
+}  // namespace
