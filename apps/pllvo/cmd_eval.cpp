@@ -5,8 +5,6 @@
 #include <string>
 #include <vector>
 
-#include <spdlog/spdlog.h>
-
 #include "commands.h"
 #include "pllvo/common/yaml_config.h"
 #include "pllvo/eval/eval_report.h"
@@ -114,7 +112,7 @@ void add_eval_command(CLI::App& app) {
     std::fputs(eval::format_report(report).c_str(), stdout);
     if (!args->json.empty()) {
       eval::write_json_file(eval::report_to_json(report), args->json);
-      spdlog::info("results written to {}", args->json);
+      std::fprintf(stderr, "pllvo: results written to %s\n", args->json.c_str());
     }
   });
 }
