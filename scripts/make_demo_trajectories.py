@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Writes the bundled demo pair examples/trajectories/{ref,est}.tum (pllvo's own synthetic data).
 
 ref: a smooth 3-D figure-8 (about 26 m) at 20 Hz, heading along the direction of motion.
