@@ -54,6 +54,13 @@ void run(const RunArgs& a) {
   for (const auto& l : s.lost)
     std::printf("  not tracked: frames %zu-%zu (t %.3f-%.3f s)\n", l.first_frame, l.last_frame, l.first_time,
                 l.last_time);
+  std::printf("estimated path %.3f, largest distance from the start %.4f (%s)\n", s.path_length,
+              s.max_displacement, s.stereo ? "metres" : "map units");
+  if (s.error)
+    std::printf("ATE RMSE %.4f m over %zu poses (%s alignment%s), %.2f%% of the %.3f m path\n", s.error->rmse_m,
+                s.error->matched_poses, s.error->align.c_str(),
+                s.error->align == "sim3" ? (", scale " + std::to_string(s.error->scale)).c_str() : "",
+                s.error->percent_of_path, s.error->path_length_m);
   std::printf("outputs: %s/{trajectory.tum, keyframes.tum, stats.json, map.ply}\n", a.out.c_str());
 }
 

@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "pllvo/common/error.h"
+#include "pllvo/eval/evaluator.h"
 #include "pllvo/vo/odometry.h"
 
 namespace pllvo::vo {
@@ -30,6 +31,32 @@ std::string describe(const LostInterval& l) {
 }
 
 }  // namespace
+
+std::optional<TrajectoryError> trajectory_error(const io::Trajectory& estimate, const io::Trajectory& reference,
+                                                bool metric_scale) {
+  if (estimate.size() < 3 || reference.size() < 3 || !reference.has_stamps()) return std::nullopt;
+  eval::EvalOptions options;
+  options.align = metric_scale ? eval::AlignMode::se3 : eval::AlignMode::sim3;
+  try {
+    const eval::Evaluator evaluator(options);
+    const auto prepared = evaluator.prepare(reference, estimate);
+    const auto ape = evaluator.ape(prepared, eval::PoseRelation::trans_part);
+    TrajectoryError e;
+    e.align = metric_scale ? "se3" : "sim3";
+    e.matched_poses = prepared.ref.size();
+    e.rmse_m = ape.stats.rmse;
+    e.max_m = ape.stats.max;
+    for (size_t i = 1; i < prepared.ref.size(); ++i)
+      e.path_length_m += (prepared.ref[i].translation() - prepared.ref[i - 1].translation()).norm();
+    e.percent_of_path = e.path_length_m > 0 ? 100.0 * e.rmse_m / e.path_length_m : 0.0;
+    if (prepared.alignment) e.scale = prepared.alignment->transform.scale;
+    return e;
+  } catch (const std::exception& ex) {
+    // Too few matched stamps or a degenerate alignment: no error to report, not a failure.
+    spdlog::warn("trajectory error not computed: {}", ex.what());
+    return std::nullopt;
+  }
+}
 
 RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, const RunOptions& options) {
   if (sequence.size() == 0) throw InputError(sequence.root(), "the sequence has no frames");
@@ -78,6 +105,12 @@ RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, co
   summary.lost = lost_intervals(odometry.records());
   summary.trajectory = tracked_trajectory(odometry.records());
   summary.tracked_frames = summary.trajectory.size();
+  for (size_t i = 0; i < summary.trajectory.size(); ++i) {
+    const auto& p = summary.trajectory.poses[i].translation();
+    if (i > 0) summary.path_length += (p - summary.trajectory.poses[i - 1].translation()).norm();
+    summary.max_displacement =
+        std::max(summary.max_displacement, (p - summary.trajectory.poses[0].translation()).norm());
+  }
   const io::Trajectory keyframes = odometry.keyframe_trajectory();
   summary.keyframes = keyframes.size();
   const MapData map = odometry.map_snapshot();
@@ -97,8 +130,18 @@ RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, co
   j["resets"] = summary.resets;
   j["lost_intervals"] = lost_json(summary.lost);
   j["map"] = {{"points", map.points.size()}, {"lines", map.lines.size()}, {"keyframes", map.keyframes.size()}};
+  j["estimate"] = {{"path_length", summary.path_length}, {"max_displacement", summary.max_displacement}};
   j["wall_time_s"] = wall;
   j["frames_per_second"] = summary.frames_per_second;
+  if (sequence.ground_truth())
+    summary.error = trajectory_error(summary.trajectory, *sequence.ground_truth(), summary.stereo);
+  if (summary.error) {
+    const auto& e = *summary.error;
+    j["trajectory_error"] = {{"align", e.align},          {"matched_poses", e.matched_poses},
+                             {"ate_rmse_m", e.rmse_m},     {"ate_max_m", e.max_m},
+                             {"path_length_m", e.path_length_m}, {"ate_percent_of_path", e.percent_of_path},
+                             {"scale", e.scale}};
+  }
   summary.stats = j;
 
   for (const auto& l : summary.lost) spdlog::warn("not tracked: {}", describe(l));

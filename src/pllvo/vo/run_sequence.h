@@ -3,6 +3,7 @@
 // files (trajectory.tum, keyframes.tum, stats.json, map.ply) written at the end.
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,22 @@ struct RunOptions {
   std::function<void(const std::string&)> progress;
 };
 
+/// Absolute trajectory error against the sequence's ground truth (evo's APE, translation).
+struct TrajectoryError {
+  std::string align;        ///< "se3" (stereo, metric) or "sim3" (mono, scale unknown)
+  size_t matched_poses = 0;
+  double rmse_m = 0;
+  double max_m = 0;
+  double path_length_m = 0;  ///< ground truth path over the matched poses
+  double percent_of_path = 0;
+  double scale = 1;          ///< Sim(3) scale applied (1 for se3)
+};
+
+/// APE of `estimate` against `reference` (SE3 alignment for stereo, Sim3 for mono); nullopt
+/// when fewer than 3 poses match.
+std::optional<TrajectoryError> trajectory_error(const io::Trajectory& estimate, const io::Trajectory& reference,
+                                                bool metric_scale);
+
 struct RunSummary {
   size_t frames = 0;
   size_t tracked_frames = 0;
@@ -31,7 +48,10 @@ struct RunSummary {
   bool stereo = false;
   std::vector<LostInterval> lost;
   io::Trajectory trajectory;  ///< tracked frames, T_world_cam0
+  double path_length = 0;      ///< of the estimated trajectory (map units; metres for stereo)
+  double max_displacement = 0; ///< largest distance from the first tracked pose
   nlohmann::json stats;       ///< what stats.json holds
+  std::optional<TrajectoryError> error;  ///< when the sequence has ground truth
 };
 
 RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, const RunOptions& options);
