@@ -160,6 +160,9 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
     px1.push_back(to_eigen(tr.points[k]));
     flow.push_back((px1.back() - px0.back()).norm());
   }
+  ref.history.emplace_back(frame.index, std::vector<cv::Point2f>(ref.features.size(), cv::Point2f(NAN, NAN)));
+  for (size_t i = 0; i < ref.current.size(); ++i)
+    if (ref.alive[i]) ref.history.back().second[i] = ref.current[i];
   const int alive = static_cast<int>(px0.size());
   if (alive < config_.init.min_points || ref.frames > static_cast<size_t>(config_.init.max_frames)) {
     start_mono_reference(frame, left);
@@ -196,13 +199,48 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   reference.left = ref.image;
   reference.T_world_cam = T_world_ref;
   const KeyframeResult result = processor_.initialize_mono(reference, ref.features, ref_points, second, second_px);
+  if (!result.ok) {
+    mono_.reset();
+    return false;
+  }
+  localize_init_frames(ref, ref_points, T_world_ref);
   mono_.reset();
-  if (!result.ok) return false;
   T_world_work_ = T_world_cur;
   start_tracking(result, frame.timestamp);
   spdlog::info("monocular initialisation ({}) between frames {} and {}: {} points, median parallax {:.2f} deg",
                two_view.model, reference.frame_index, frame.index, made, two_view.median_parallax_deg);
   return true;
+}
+
+void Odometry::localize_init_frames(const MonoReference& ref,
+                                    const std::vector<std::optional<Eigen::Vector3d>>& points,
+                                    const geometry::Pose& T_world_ref) {
+  // Records of the frames since the reference are the last ones (the current frame's is not
+  // in yet); the reference frame itself is the first keyframe.
+  auto record_of = [&](size_t frame_index) -> FrameRecord* {
+    for (auto it = records_.rbegin(); it != records_.rend(); ++it)
+      if (it->index == frame_index) return &*it;
+    return nullptr;
+  };
+  if (FrameRecord* r = record_of(ref.frame_index)) {
+    r->tracked = true;
+    r->T_world_cam = to_output(T_world_ref);
+    r->tracked_points = static_cast<int>(std::count_if(points.begin(), points.end(), [](const auto& p) { return p.has_value(); }));
+  }
+  for (const auto& [frame_index, px] : ref.history) {
+    FrameRecord* r = record_of(frame_index);
+    if (!r) continue;  // the current frame
+    std::vector<Eigen::Vector3d> pts;
+    std::vector<Eigen::Vector2d> obs;
+    for (size_t i = 0; i < px.size(); ++i)
+      if (points[i] && !std::isnan(px[i].x)) pts.push_back(*points[i]), obs.push_back(to_eigen(px[i]));
+    const geometry::Pose guess = T_world_ref.inverse();
+    const PoseEstimate e = estimate_pose_ransac(camera_, pts, obs, &guess, config_.pose);
+    if (!e.ok) continue;
+    r->tracked = true;
+    r->T_world_cam = to_output(e.T_cam_world.inverse());
+    r->tracked_points = e.num_inliers;
+  }
 }
 
 void Odometry::start_tracking(const KeyframeResult& result, double timestamp) {

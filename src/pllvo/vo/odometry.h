@@ -54,6 +54,9 @@ class Odometry {
     std::vector<cv::Point2f> current;   ///< each feature followed into the latest frame
     std::vector<unsigned char> alive;   ///< still tracked
     size_t frames = 0;
+    /// Frames between the reference and now with each feature's position (NaN: lost), so
+    /// that they get a pose once the map exists.
+    std::vector<std::pair<size_t, std::vector<cv::Point2f>>> history;
   };
 
   bool initialize(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right, const ImagePyramid& pyramid);
@@ -68,6 +71,9 @@ class Odometry {
   void submit_keyframe(KeyframeJob job);
   void apply_keyframe_results();
   void start_tracking(const KeyframeResult& result, double timestamp);
+  /// Poses of the frames seen during monocular initialisation, by PnP on the new map.
+  void localize_init_frames(const MonoReference& ref, const std::vector<std::optional<Eigen::Vector3d>>& points,
+                            const geometry::Pose& T_world_ref);
   void handle_lost();
   void reset();
   geometry::Pose to_output(const geometry::Pose& T_world_work) const;
