@@ -7,26 +7,22 @@
 namespace pllvo::vo {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
-
 KeyframePolicyConfig defaults() {
   KeyframePolicyConfig c;
   c.min_tracked_points = 60;
   c.min_tracked_ratio = 0.5;
   c.max_interval_s = 1.0;
   c.min_interval_s = 0.25;
-  c.line_angle_change = 0.4;
-  c.line_angle_tolerance_deg = 3.0;
-  c.line_min_angles = 4;
+  c.line_angle_distance_deg = 8.0;
   return c;
 }
 
-FrameTrackingState frame(double t, int points, bool idle = false, const std::vector<double>* angles = nullptr) {
+FrameTrackingState frame(double t, int points, bool idle = false, std::optional<double> angle_distance = {}) {
   FrameTrackingState s;
   s.timestamp = t;
   s.tracked_points = points;
   s.backend_idle = idle;
-  s.line_angles = angles;
+  s.line_angle_distance_deg = angle_distance;
   return s;
 }
 
@@ -64,26 +60,14 @@ TEST(KeyframePolicy, TimeTriggerHasAMaximumAndAnIdleMinimum) {
   EXPECT_EQ(policy.decide(frame(10.3, 300, false)), KeyframeReason::kNone);
 }
 
-TEST(KeyframePolicy, LineTriggerFiresWhenTheOverlapAngleSetChanges) {
+TEST(KeyframePolicy, LineTriggerFiresWhenTheOverlapAngleSetMovesAway) {
   KeyframePolicy policy(defaults());
-  const std::vector<double> ref = {10 * kDeg, 30 * kDeg, 50 * kDeg, 70 * kDeg, 85 * kDeg};
-  policy.start_keyframe(10.0, 300, ref);
-  // Small perturbations (< 3 deg): the same set.
-  const std::vector<double> same = {11 * kDeg, 29 * kDeg, 52 * kDeg, 70.5 * kDeg, 84 * kDeg};
-  EXPECT_EQ(policy.decide(frame(10.1, 300, false, &same)), KeyframeReason::kNone);
-  // Two of five replaced: change 0.4, not above the threshold.
-  const std::vector<double> two = {10 * kDeg, 30 * kDeg, 50 * kDeg, 20 * kDeg, 40 * kDeg};
-  EXPECT_EQ(policy.decide(frame(10.1, 300, false, &two)), KeyframeReason::kNone);
-  // Three of five replaced: change 0.6.
-  const std::vector<double> three = {10 * kDeg, 30 * kDeg, 60 * kDeg, 20 * kDeg, 40 * kDeg};
-  EXPECT_EQ(policy.decide(frame(10.1, 300, false, &three)), KeyframeReason::kLineAngles);
-}
-
-TEST(KeyframePolicy, LineTriggerNeedsEnoughAngles) {
-  KeyframePolicy policy(defaults());
-  policy.start_keyframe(10.0, 300, {10 * kDeg, 20 * kDeg});
-  const std::vector<double> other = {60 * kDeg, 80 * kDeg, 70 * kDeg};
-  EXPECT_EQ(policy.decide(frame(10.1, 300, false, &other)), KeyframeReason::kNone);
+  policy.start_keyframe(10.0, 300);
+  EXPECT_EQ(policy.decide(frame(10.1, 300, false, 2.0)), KeyframeReason::kNone);
+  EXPECT_EQ(policy.decide(frame(10.1, 300, false, 8.0)), KeyframeReason::kNone);
+  EXPECT_EQ(policy.decide(frame(10.1, 300, false, 8.5)), KeyframeReason::kLineAngles);
+  // No distance (lines off, or too few angles): the rule cannot fire.
+  EXPECT_EQ(policy.decide(frame(10.1, 300, false, std::nullopt)), KeyframeReason::kNone);
 }
 
 TEST(KeyframePolicy, EachTriggerCanBeSwitchedOff) {
@@ -92,25 +76,14 @@ TEST(KeyframePolicy, EachTriggerCanBeSwitchedOff) {
   c.use_time_trigger = false;
   c.use_line_trigger = false;
   KeyframePolicy policy(c);
-  const std::vector<double> ref = {10 * kDeg, 30 * kDeg, 50 * kDeg, 70 * kDeg};
-  const std::vector<double> other = {15 * kDeg, 35 * kDeg, 55 * kDeg, 75 * kDeg};
-  policy.start_keyframe(10.0, 300, ref);
-  EXPECT_EQ(policy.decide(frame(100.0, 1, true, &other)), KeyframeReason::kNone);
+  policy.start_keyframe(10.0, 300);
+  EXPECT_EQ(policy.decide(frame(100.0, 1, true, 45.0)), KeyframeReason::kNone);
 }
 
 TEST(KeyframePolicy, PointTriggerTakesPrecedence) {
   KeyframePolicy policy(defaults());
   policy.start_keyframe(10.0, 300);
   EXPECT_EQ(policy.decide(frame(12.0, 10, true)), KeyframeReason::kFewPoints);
-}
-
-TEST(AngleSetChange, CountsUnmatchedAnglesOneToOne) {
-  EXPECT_DOUBLE_EQ(angle_set_change({}, {}, 0.1), 0.0);
-  EXPECT_DOUBLE_EQ(angle_set_change({1.0, 2.0}, {2.05, 1.02}, 0.1), 0.0);
-  EXPECT_DOUBLE_EQ(angle_set_change({1.0, 2.0}, {3.0}, 0.1), 1.0);
-  // One reference angle can pair with only one current angle.
-  EXPECT_DOUBLE_EQ(angle_set_change({1.0}, {1.0, 1.01, 1.02, 1.03}, 0.1), 0.75);
-  EXPECT_DOUBLE_EQ(angle_set_change({1.0, 1.1, 5.0, 6.0}, {1.05, 1.12}, 0.1), 0.5);
 }
 
 TEST(KeyframeReason, NamesAreStable) {

@@ -26,7 +26,9 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.keyframes.min_tracked_points, code.keyframes.min_tracked_points);
   EXPECT_DOUBLE_EQ(file.keyframes.max_interval_s, code.keyframes.max_interval_s);
   EXPECT_DOUBLE_EQ(file.keyframes.min_interval_s, code.keyframes.min_interval_s);
-  EXPECT_DOUBLE_EQ(file.keyframes.line_angle_change, code.keyframes.line_angle_change);
+  EXPECT_DOUBLE_EQ(file.keyframes.line_angle_distance_deg, code.keyframes.line_angle_distance_deg);
+  EXPECT_EQ(file.keyframes.line_min_angles, code.keyframes.line_min_angles);
+  EXPECT_DOUBLE_EQ(file.klt.min_ncc, code.klt.min_ncc);
   EXPECT_EQ(file.init.max_frames, code.init.max_frames);
   EXPECT_EQ(file.pose.min_inliers, code.pose.min_inliers);
   EXPECT_EQ(file.mapping.window_keyframes, code.mapping.window_keyframes);

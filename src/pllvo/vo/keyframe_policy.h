@@ -1,6 +1,7 @@
 #pragma once
 // When to make a keyframe (paper 3.3). Three strategies, each with its own threshold and
 // switch, and every decision names the rule that fired, so logs and stats show why.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,20 +29,19 @@ struct FrameTrackingState {
   double timestamp = 0;
   int tracked_points = 0;    ///< points tracked into this frame and kept by the pose solver
   bool backend_idle = true;  ///< the keyframe worker has nothing queued or running
-  /// The frame's set of line overlap angles (radians), null when lines are not used.
-  const std::vector<double>* line_angles = nullptr;
+  /// Distance in degrees between the frame's set of line overlap angles and the keyframe's
+  /// (lines::overlap_angle_distance, paper eq. 9); nullopt when lines are not used or the
+  /// sets hold too few angles to describe the view.
+  std::optional<double> line_angle_distance_deg;
 };
-
-/// Share in [0, 1] of the two angle sets without a partner in the other set within
-/// `tolerance` (one-to-one matching): 0 for equal sets, 1 for disjoint ones.
-double angle_set_change(std::vector<double> reference, std::vector<double> current, double tolerance);
 
 class KeyframePolicy {
  public:
   explicit KeyframePolicy(const KeyframePolicyConfig& config);
 
-  /// A keyframe was made at `timestamp`; later frames are compared with this state.
-  void start_keyframe(double timestamp, int tracked_points, std::vector<double> line_angles = {});
+  /// A keyframe was made at `timestamp`; later frames are compared with this state (the
+  /// keyframe's overlap-angle set is kept by the caller, which measures the distance to it).
+  void start_keyframe(double timestamp, int tracked_points);
   /// The keyframe's own points became trackable (after its detection finished on the worker):
   /// the tracking-quality ratio is measured against this count from now on.
   void set_reference_points(int tracked_points);
@@ -57,7 +57,6 @@ class KeyframePolicy {
   bool has_reference_ = false;
   double reference_time_ = 0;
   int reference_points_ = 0;
-  std::vector<double> reference_angles_;
 };
 
 }  // namespace pllvo::vo

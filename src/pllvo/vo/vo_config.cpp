@@ -43,8 +43,7 @@ void read_keyframes(const ConfigNode& n, KeyframePolicyConfig& c) {
   n.get("max_interval_s", c.max_interval_s);
   n.get("min_interval_s", c.min_interval_s);
   n.get("use_line_trigger", c.use_line_trigger);
-  n.get("line_angle_change", c.line_angle_change);
-  n.get("line_angle_tolerance_deg", c.line_angle_tolerance_deg);
+  n.get("line_angle_distance_deg", c.line_angle_distance_deg);
   n.get("line_min_angles", c.line_min_angles);
   n.reject_unknown_keys();
 }
@@ -139,8 +138,8 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(keyframes.max_interval_s > 0, file, "keyframes.max_interval_s", "must be positive");
   require(keyframes.min_interval_s >= 0 && keyframes.min_interval_s <= keyframes.max_interval_s, file,
           "keyframes.min_interval_s", "must be in [0, max_interval_s]");
-  require(keyframes.line_angle_change > 0 && keyframes.line_angle_change <= 1, file,
-          "keyframes.line_angle_change", "must be in (0, 1]");
+  require(keyframes.line_angle_distance_deg > 0 && keyframes.line_angle_distance_deg <= 90, file,
+          "keyframes.line_angle_distance_deg", "must be in (0, 90]");
   require(pose.min_inliers >= 4, file, "pose.min_inliers", "must be at least 4");
   require(pose.ransac_threshold_px > 0, file, "pose.ransac_threshold_px", "must be positive");
   require(mapping.matcher == "auto" || mapping.matcher == "lightglue" || mapping.matcher == "mnn", file,

@@ -62,11 +62,11 @@ struct KeyframePolicyConfig {
   bool use_time_trigger = true;
   double max_interval_s = 1.0;
   double min_interval_s = 0.25;
-  // (3) lines: the set of line overlap angles compared with the keyframe's set.
+  // (3) lines: distance (degrees, earth mover's) between the frame's set of line overlap
+  // angles and the keyframe's; the view's structure changed when it grows.
   bool use_line_trigger = true;
-  double line_angle_change = 0.4;    ///< share of angles without a partner in the other set
-  double line_angle_tolerance_deg = 3.0;
-  int line_min_angles = 4;           ///< fewer angles say nothing about the scene
+  double line_angle_distance_deg = 8.0;
+  int line_min_angles = 4;  ///< sets with fewer angles say nothing about the view
 };
 
 /// Initialisation: monocular two-view (E vs H) or stereo from rectified left-right matches.
