@@ -18,6 +18,9 @@ constexpr double kDegToRad = M_PI / 180.0;
 // Cost charged for an observation that cannot be evaluated (behind the camera), as if its
 // residual were this many pixels: keeps costs comparable when points cross the camera plane.
 constexpr double kInvalidResidualPx = 100.0;
+// A round stops when a step lowers the cost by less than this fraction, or moves less.
+constexpr double kRelativeCostTolerance = 1e-6;
+constexpr double kStepTolerance = 1e-10;
 
 /// Inverse of the right Jacobian of SO(3).
 Eigen::Matrix3d right_jacobian_inverse(const Eigen::Vector3d& phi) {
@@ -201,7 +204,7 @@ PoseRefinementResult PoseRefiner::refine(const PoseRefinementProblem& problem) c
       Matrix6d H;
       Vector6d g;
       lin.normal_equations(T, point_active, line_active, H, g);
-      bool improved = false;
+      bool improved = false, converged = false;
       // Levenberg-Marquardt: raise the damping until a step lowers the cost.
       while (lambda < 1e10) {
         Matrix6d A = H;
@@ -211,16 +214,17 @@ PoseRefinementResult PoseRefiner::refine(const PoseRefinementProblem& problem) c
         const Pose candidate = geometry::apply_left_increment(delta, T);
         const double new_cost = lin.cost(candidate, point_active, line_active);
         if (new_cost < cost) {
+          converged = cost - new_cost < kRelativeCostTolerance * cost || delta.norm() < kStepTolerance;
           T = candidate;
           cost = new_cost;
           lambda = std::max(1e-9, lambda * 0.1);
-          improved = delta.norm() > 1e-12;
+          improved = true;
           break;
         }
         lambda *= 10;
       }
       ++out.iterations;
-      if (!improved) break;
+      if (!improved || converged) break;
     }
     lin.classify(T, point_active, line_active);
   }

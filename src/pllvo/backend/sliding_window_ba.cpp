@@ -145,9 +145,9 @@ BaSummary SlidingWindowBA::optimize(BaProblem& P) const {
   for (const auto& o : P.point_observations) ++point_count[o.point];
   for (const auto& o : P.line_observations) ++line_count[o.line];
 
-  ceres::Problem::Options problem_options;
-  problem_options.enable_fast_removal = config_.second_pass;
-  ceres::Problem problem(problem_options);
+  // Without fast removal: its per-block hash sets cost more at construction than the few
+  // outlier removals of the second pass save.
+  ceres::Problem problem;
   ceres::LossFunction* point_loss = config_.point_loss.make_ceres();  // shared; the problem deletes it once
   ceres::LossFunction* line_loss = config_.line_loss.make_ceres();
 

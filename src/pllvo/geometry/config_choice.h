@@ -15,11 +15,7 @@ using Choices = std::vector<std::pair<std::string, Enum>>;
 /// choices when the string names none of them.
 template <typename Enum>
 void get_choice(const ConfigNode& node, const std::string& key, Enum& value, const Choices<Enum>& choices) {
-  if (!node.has(key)) {
-    std::string ignored;
-    node.get(key, ignored);  // marks the key as known
-    return;
-  }
+  if (!node.has(key)) return;
   std::string text;
   node.get(key, text);
   for (const auto& [name, e] : choices)
