@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include "../support/synthetic_scene.h"
 #include "pllvo/geometry/pnp.h"
 
@@ -57,6 +59,11 @@ TEST(PnpRansac, RecoversThePoseWithThirtyPercentOutliers) {
       EXPECT_EQ(outliers_accepted, 0);
       EXPECT_GE(true_inliers_found, 135);  // of 140; 2 px = 4 sigma of the 0.5 px noise
       EXPECT_EQ(r.num_inliers, true_inliers_found + outliers_accepted);
+      std::printf("[ pnp ransac ] %s seed %u, 200 matches, 30%% outliers, 0.5 px noise: %.2f mm, %.4f deg, "
+                  "%d/140 inliers kept, %d outliers accepted\n",
+                  method == PnpMethod::kAp3p ? "ap3p" : method == PnpMethod::kEpnp ? "epnp" : "sqpnp", seed,
+                  1e3 * translation_error(r.T_world_cam, d.T_world_cam), rotation_error_deg(r.T_world_cam, d.T_world_cam),
+                  true_inliers_found, outliers_accepted);
     }
   }
 }
