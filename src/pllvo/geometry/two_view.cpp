@@ -1,0 +1,327 @@
+#include "pllvo/geometry/two_view.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <ceres/autodiff_cost_function.h>
+#include <ceres/loss_function.h>
+#include <ceres/manifold.h>
+#include <ceres/problem.h>
+#include <ceres/solver.h>
+#include <ceres/sphere_manifold.h>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+
+#include "pllvo/geometry/pose.h"
+#include "pllvo/geometry/triangulation.h"
+
+namespace pllvo::geometry {
+
+namespace {
+constexpr double kChi2OneDof = 3.841;  // 95% bound of a 1-D squared error in sigma^2
+constexpr double kChi2TwoDof = 5.991;  // 95% bound of a 2-D squared error in sigma^2
+constexpr double kRadToDeg = 180.0 / M_PI;
+// Below this parallax the sign of a triangulated depth is noise (ORB-SLAM's cos 0.99998).
+constexpr double kCheiralityMinParallaxDeg = 0.36;
+
+Eigen::Vector3d homogeneous(const Eigen::Vector2d& x) { return {x.x(), x.y(), 1.0}; }
+
+/// Squared distance (normalised units) of x to the 2-D line l.
+double line_distance2(const Eigen::Vector3d& l, const Eigen::Vector2d& x) {
+  const double d = l.dot(homogeneous(x));
+  return d * d / l.head<2>().squaredNorm();
+}
+
+struct Candidate {
+  Candidate() = default;
+  Candidate(const Eigen::Matrix3d& R_, const Eigen::Vector3d& t_) : R(R_), t(t_) {}
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  int good = 0;         ///< consistent: in front (or too little parallax to tell) and reprojecting
+  int informative = 0;  ///< consistent, in front, with enough parallax for the depth sign to mean something
+  double median_parallax_deg = 0;
+  std::vector<Eigen::Vector3d> points;
+  std::vector<uint8_t> triangulated;
+};
+
+/// Triangulates the inliers under motion (R, t) and counts the consistent ones.
+void evaluate(Candidate& c, std::span<const Eigen::Vector2d> xy0, std::span<const Eigen::Vector2d> xy1,
+              const std::vector<uint8_t>& inliers, double max_error, const TwoViewConfig& config) {
+  const size_t n = xy0.size();
+  c.points.assign(n, Eigen::Vector3d::Zero());
+  c.triangulated.assign(n, 0);
+  c.good = c.informative = 0;
+  const Pose T[2] = {Pose::Identity(), make_pose(c.R, c.t)};
+  const Eigen::Vector3d centre1 = -c.R.transpose() * c.t;
+  std::vector<double> parallaxes;
+  for (size_t i = 0; i < n; ++i) {
+    if (!inliers[i]) continue;
+    const Eigen::Vector2d obs[2] = {xy0[i], xy1[i]};
+    Eigen::Vector3d X;
+    if (!triangulate_linear(T, obs, X)) continue;
+    const Eigen::Vector3d X1 = c.R * X + c.t;
+    const double cos_parallax = X.normalized().dot((X - centre1).normalized());
+    const double parallax = std::acos(std::clamp(cos_parallax, -1.0, 1.0)) * kRadToDeg;
+    const bool in_front = X.z() > 0 && X1.z() > 0;
+    if (!in_front && parallax >= kCheiralityMinParallaxDeg) continue;
+    if (std::abs(X.z()) < 1e-12 || std::abs(X1.z()) < 1e-12) continue;
+    const double e0 = (X.head<2>() / X.z() - xy0[i]).norm(), e1 = (X1.head<2>() / X1.z() - xy1[i]).norm();
+    if (e0 > max_error || e1 > max_error) continue;
+    ++c.good;
+    if (in_front && parallax >= kCheiralityMinParallaxDeg) ++c.informative;
+    parallaxes.push_back(parallax);
+    if (in_front && parallax >= config.min_point_parallax_deg) {
+      c.points[i] = X;
+      c.triangulated[i] = 1;
+    }
+  }
+  if (!parallaxes.empty()) {
+    auto mid = parallaxes.begin() + parallaxes.size() / 2;
+    std::nth_element(parallaxes.begin(), mid, parallaxes.end());
+    c.median_parallax_deg = *mid;
+  }
+}
+
+/// Sampson distance (pixels) of a match to the epipolar geometry E = [t]x R.
+struct SampsonError {
+  Eigen::Vector2d x0, x1;
+  double focal;
+
+  template <typename T>
+  bool operator()(const T* q_xyzw, const T* t, T* residual) const {
+    const Eigen::Quaternion<T> q(q_xyzw[3], q_xyzw[0], q_xyzw[1], q_xyzw[2]);
+    Eigen::Matrix<T, 3, 3> tx;
+    tx << T(0), -t[2], t[1], t[2], T(0), -t[0], -t[1], t[0], T(0);
+    const Eigen::Matrix<T, 3, 3> E = tx * q.toRotationMatrix();
+    const Eigen::Matrix<T, 3, 1> h0(T(x0.x()), T(x0.y()), T(1)), h1(T(x1.x()), T(x1.y()), T(1));
+    const Eigen::Matrix<T, 3, 1> l1 = E * h0, l0 = E.transpose() * h1;
+    const T denom = l1.x() * l1.x() + l1.y() * l1.y() + l0.x() * l0.x() + l0.y() * l0.y();
+    if (!(denom > T(1e-30))) return false;
+    residual[0] = T(focal) * h1.dot(l1) / sqrt(denom);
+    return true;
+  }
+};
+
+/// Refines (R, unit t) on the inliers' Sampson errors: the RANSAC models come from minimal
+/// samples and are noticeably off; this is a two-view bundle adjustment with the points
+/// eliminated to first order.
+void refine_motion(Eigen::Matrix3d& R, Eigen::Vector3d& t, std::span<const Eigen::Vector2d> xy0,
+                   std::span<const Eigen::Vector2d> xy1, const std::vector<uint8_t>& inliers, double focal_px,
+                   double sigma_px) {
+  Eigen::Quaterniond q(R);
+  double q_xyzw[4] = {q.x(), q.y(), q.z(), q.w()};
+  double tt[3] = {t.x(), t.y(), t.z()};
+  ceres::Problem problem;
+  ceres::LossFunction* loss = new ceres::HuberLoss(2.0 * sigma_px);
+  for (size_t i = 0; i < xy0.size(); ++i) {
+    if (!inliers[i]) continue;
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<SampsonError, 1, 4, 3>(
+                                 new SampsonError{xy0[i], xy1[i], focal_px}),
+                             loss, q_xyzw, tt);
+  }
+  if (problem.NumResidualBlocks() < 6) {
+    delete loss;
+    return;
+  }
+  problem.SetManifold(q_xyzw, new ceres::EigenQuaternionManifold);
+  problem.SetManifold(tt, new ceres::SphereManifold<3>);
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = 20;
+  options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  if (!summary.IsSolutionUsable()) return;
+  R = Eigen::Quaterniond(q_xyzw[3], q_xyzw[0], q_xyzw[1], q_xyzw[2]).normalized().toRotationMatrix();
+  t = Eigen::Vector3d(tt[0], tt[1], tt[2]).normalized();
+}
+
+std::vector<cv::Point2d> to_cv(std::span<const Eigen::Vector2d> xy) {
+  std::vector<cv::Point2d> out(xy.size());
+  for (size_t i = 0; i < xy.size(); ++i) out[i] = {xy[i].x(), xy[i].y()};
+  return out;
+}
+
+std::vector<Candidate> essential_candidates(const Eigen::Matrix3d& E) {
+  cv::Mat E_cv, R1, R2, t;
+  cv::eigen2cv(E, E_cv);
+  cv::decomposeEssentialMat(E_cv, R1, R2, t);
+  Eigen::Matrix3d Ra, Rb;
+  Eigen::Vector3d te;
+  cv::cv2eigen(R1, Ra);
+  cv::cv2eigen(R2, Rb);
+  cv::cv2eigen(t, te);
+  te.normalize();
+  return {Candidate(Ra, te), Candidate(Ra, -te), Candidate(Rb, te), Candidate(Rb, -te)};
+}
+
+std::vector<Candidate> homography_candidates(const Eigen::Matrix3d& H) {
+  cv::Mat H_cv;
+  cv::eigen2cv(H, H_cv);
+  std::vector<cv::Mat> Rs, ts, normals;
+  cv::decomposeHomographyMat(H_cv, cv::Mat::eye(3, 3, CV_64F), Rs, ts, normals);
+  std::vector<Candidate> out;
+  for (size_t i = 0; i < Rs.size(); ++i) {
+    Candidate c;
+    cv::cv2eigen(Rs[i], c.R);
+    cv::cv2eigen(ts[i], c.t);
+    if (!(c.t.norm() > 1e-12)) continue;  // pure rotation: no baseline to triangulate with
+    c.t.normalize();
+    out.push_back(c);
+  }
+  return out;
+}
+}  // namespace
+
+const char* to_string(TwoViewModel model) {
+  switch (model) {
+    case TwoViewModel::kNone: return "none";
+    case TwoViewModel::kEssential: return "essential";
+    case TwoViewModel::kHomography: return "homography";
+  }
+  return "?";
+}
+
+void TwoViewConfig::load(const ConfigNode& node) {
+  node.get("sigma_px", sigma_px);
+  node.get("ransac_threshold_px", ransac_threshold_px);
+  node.get("ransac_confidence", ransac_confidence);
+  node.get("ransac_max_iterations", ransac_max_iterations);
+  node.get("homography_ratio", homography_ratio);
+  node.get("max_reprojection_error_px", max_reprojection_error_px);
+  node.get("min_point_parallax_deg", min_point_parallax_deg);
+  node.get("min_median_parallax_deg", min_median_parallax_deg);
+  node.get("min_triangulated", min_triangulated);
+  node.get("min_good_fraction", min_good_fraction);
+  node.get("max_ambiguity", max_ambiguity);
+  node.reject_unknown_keys();
+}
+
+double score_essential(const Eigen::Matrix3d& E, std::span<const Eigen::Vector2d> xy0,
+                       std::span<const Eigen::Vector2d> xy1, double focal_px, double sigma_px,
+                       std::vector<uint8_t>& inliers) {
+  const double to_chi2 = focal_px * focal_px / (sigma_px * sigma_px);
+  inliers.assign(xy0.size(), 0);
+  double score = 0;
+  for (size_t i = 0; i < xy0.size(); ++i) {
+    const double chi1 = line_distance2(E * homogeneous(xy0[i]), xy1[i]) * to_chi2;
+    const double chi0 = line_distance2(E.transpose() * homogeneous(xy1[i]), xy0[i]) * to_chi2;
+    // Scored against the 2-DoF bound so that E and H scores are comparable (ORB-SLAM).
+    if (chi1 <= kChi2OneDof) score += kChi2TwoDof - chi1;
+    if (chi0 <= kChi2OneDof) score += kChi2TwoDof - chi0;
+    inliers[i] = chi0 <= kChi2OneDof && chi1 <= kChi2OneDof;
+  }
+  return score;
+}
+
+double score_homography(const Eigen::Matrix3d& H_1_0, std::span<const Eigen::Vector2d> xy0,
+                        std::span<const Eigen::Vector2d> xy1, double focal_px, double sigma_px,
+                        std::vector<uint8_t>& inliers) {
+  const double to_chi2 = focal_px * focal_px / (sigma_px * sigma_px);
+  const Eigen::Matrix3d H_0_1 = H_1_0.inverse();
+  inliers.assign(xy0.size(), 0);
+  double score = 0;
+  for (size_t i = 0; i < xy0.size(); ++i) {
+    const Eigen::Vector3d p1 = H_1_0 * homogeneous(xy0[i]), p0 = H_0_1 * homogeneous(xy1[i]);
+    const double chi1 = (p1.head<2>() / p1.z() - xy1[i]).squaredNorm() * to_chi2;
+    const double chi0 = (p0.head<2>() / p0.z() - xy0[i]).squaredNorm() * to_chi2;
+    const bool ok1 = std::isfinite(chi1) && chi1 <= kChi2TwoDof, ok0 = std::isfinite(chi0) && chi0 <= kChi2TwoDof;
+    if (ok1) score += kChi2TwoDof - chi1;
+    if (ok0) score += kChi2TwoDof - chi0;
+    inliers[i] = ok0 && ok1;
+  }
+  return score;
+}
+
+TwoViewResult initialise_two_view(std::span<const Eigen::Vector2d> xy0,
+                                  std::span<const Eigen::Vector2d> xy1, double focal_px,
+                                  const TwoViewConfig& config) {
+  TwoViewResult out;
+  const size_t n = xy0.size();
+  out.inliers.assign(n, 0);
+  out.points_cam0.assign(n, Eigen::Vector3d::Zero());
+  out.triangulated.assign(n, 0);
+  if (n != xy1.size() || n < 8) {
+    out.failure = "too few matches";
+    return out;
+  }
+
+  const auto p0 = to_cv(xy0), p1 = to_cv(xy1);
+  const double threshold = config.ransac_threshold_px / focal_px;
+  Eigen::Matrix3d E = Eigen::Matrix3d::Zero(), H = Eigen::Matrix3d::Zero();
+  std::vector<uint8_t> inliers_e(n, 0), inliers_h(n, 0);
+  try {
+    const cv::Mat E_cv = cv::findEssentialMat(p0, p1, cv::Mat::eye(3, 3, CV_64F), cv::RANSAC,
+                                              config.ransac_confidence, threshold,
+                                              config.ransac_max_iterations);
+    if (E_cv.rows == 3 && E_cv.cols == 3) {
+      cv::cv2eigen(E_cv, E);
+      out.score_essential = score_essential(E, xy0, xy1, focal_px, config.sigma_px, inliers_e);
+    }
+    const cv::Mat H_cv = cv::findHomography(p0, p1, cv::RANSAC, threshold, cv::noArray(),
+                                            config.ransac_max_iterations, config.ransac_confidence);
+    if (H_cv.rows == 3 && H_cv.cols == 3) {
+      cv::cv2eigen(H_cv, H);
+      out.score_homography = score_homography(H, xy0, xy1, focal_px, config.sigma_px, inliers_h);
+    }
+  } catch (const cv::Exception&) {
+    // Degenerate input (e.g. all matches identical): whatever was fitted before still counts.
+  }
+  const double total = out.score_essential + out.score_homography;
+  if (!(total > 0)) {
+    out.failure = "no model fits the matches";
+    return out;
+  }
+  const bool use_h = out.score_homography / total > config.homography_ratio;
+  out.model = use_h ? TwoViewModel::kHomography : TwoViewModel::kEssential;
+  out.inliers = use_h ? inliers_h : inliers_e;
+  const int num_inliers = static_cast<int>(std::count(out.inliers.begin(), out.inliers.end(), 1));
+
+  std::vector<Candidate> candidates = use_h ? homography_candidates(H) : essential_candidates(E);
+  const double max_error = config.max_reprojection_error_px / focal_px;
+  for (auto& c : candidates) evaluate(c, xy0, xy1, out.inliers, max_error, config);
+  // Points too far to show their depth sign fit every candidate; only the others tell
+  // candidates apart.
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& a, const Candidate& b) { return a.informative > b.informative; });
+  if (candidates.empty() || candidates[0].informative == 0) {
+    out.failure = "no decomposition explains the matches";
+    return out;
+  }
+  const Candidate& best = candidates[0];
+  out.median_parallax_deg = best.median_parallax_deg;
+  const int num_triangulated = static_cast<int>(std::count(best.triangulated.begin(), best.triangulated.end(), 1));
+  if (best.good < config.min_good_fraction * num_inliers) {
+    out.failure = "too few inliers in front of both cameras";
+  } else if (candidates.size() > 1 && candidates[1].informative > config.max_ambiguity * best.informative) {
+    out.failure = "ambiguous decomposition";
+  } else if (best.median_parallax_deg < config.min_median_parallax_deg) {
+    out.failure = "parallax too low";
+  } else if (num_triangulated < config.min_triangulated) {
+    out.failure = "too few triangulated points";
+  }
+  if (!out.failure.empty()) return out;
+
+  // Refine the winner, re-select the inliers with the refined motion (the RANSAC model's
+  // inlier set is biased by its error), refine again, and triangulate with the result.
+  Candidate refined(best.R, best.t);
+  std::vector<uint8_t> refined_inliers = out.inliers;
+  for (int pass = 0; pass < 2; ++pass) {
+    refine_motion(refined.R, refined.t, xy0, xy1, refined_inliers, focal_px, config.sigma_px);
+    score_essential(hat(refined.t) * refined.R, xy0, xy1, focal_px, config.sigma_px, refined_inliers);
+  }
+  evaluate(refined, xy0, xy1, refined_inliers, max_error, config);
+  const bool use_refined = refined.good >= best.good * config.min_good_fraction;
+  const Candidate& final_motion = use_refined ? refined : best;
+  if (use_refined) out.inliers = refined_inliers;
+  out.ok = true;
+  out.T_cam1_cam0 = make_pose(final_motion.R, final_motion.t);
+  out.points_cam0 = final_motion.points;
+  out.triangulated = final_motion.triangulated;
+  out.num_triangulated =
+      static_cast<int>(std::count(final_motion.triangulated.begin(), final_motion.triangulated.end(), 1));
+  out.median_parallax_deg = final_motion.median_parallax_deg;
+  return out;
+}
+
+}  // namespace pllvo::geometry

@@ -1,0 +1,79 @@
+#pragma once
+// Monocular initialisation from two views: an essential matrix and a homography are fitted
+// with RANSAC (OpenCV), scored ORB-SLAM style on all matches by their symmetric transfer
+// errors, the better model is decomposed, and the decomposition whose triangulated points
+// pass cheirality and reprojection checks (clearly ahead of the other candidates) wins.
+// The translation has unit length: the map scale is arbitrary.
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "pllvo/common/yaml_config.h"
+#include "pllvo/geometry/pose.h"
+
+namespace pllvo::geometry {
+
+struct TwoViewConfig {
+  /// Standard deviation of the feature position (pixels): the score thresholds are the
+  /// chi-square 95% bounds in units of sigma^2 (3.84 for the 1-D epipolar distance, 5.99
+  /// for the 2-D homography transfer).
+  double sigma_px = 1.0;
+  /// RANSAC inlier threshold of the OpenCV fits (pixels).
+  double ransac_threshold_px = 1.5;
+  double ransac_confidence = 0.999;
+  int ransac_max_iterations = 1000;
+  /// The homography is chosen when S_H / (S_H + S_E) exceeds this (ORB-SLAM: 0.45).
+  double homography_ratio = 0.45;
+  /// A point is consistent with a candidate motion when it lies in front of both cameras
+  /// and reprojects within this error (pixels) in both views.
+  double max_reprojection_error_px = 2.0;
+  /// Points with a smaller parallax are not returned as triangulated (depth too uncertain).
+  double min_point_parallax_deg = 1.0;
+  /// Median parallax of the consistent points must reach this, else the baseline is too
+  /// short to initialise.
+  double min_median_parallax_deg = 1.0;
+  /// Minimum number of triangulated points, and the fraction of model inliers that the
+  /// winning candidate must explain.
+  int min_triangulated = 50;
+  double min_good_fraction = 0.9;
+  /// Rejected as ambiguous when another candidate explains more than this fraction of the
+  /// winner's consistent points.
+  double max_ambiguity = 0.7;
+
+  void load(const ConfigNode& node);
+};
+
+enum class TwoViewModel { kNone, kEssential, kHomography };
+const char* to_string(TwoViewModel model);
+
+struct TwoViewResult {
+  bool ok = false;
+  TwoViewModel model = TwoViewModel::kNone;
+  Pose T_cam1_cam0 = Pose::Identity();  ///< |translation| = 1
+  std::vector<uint8_t> inliers;         ///< matches consistent with the chosen model's score
+  std::vector<Eigen::Vector3d> points_cam0;  ///< per match; valid where `triangulated`
+  std::vector<uint8_t> triangulated;
+  int num_triangulated = 0;
+  double median_parallax_deg = 0;
+  double score_essential = 0, score_homography = 0;
+  std::string failure;  ///< why ok is false
+};
+
+/// Relative pose of the second view from matches at normalised coordinates xy0[i] <-> xy1[i].
+TwoViewResult initialise_two_view(std::span<const Eigen::Vector2d> xy0,
+                                  std::span<const Eigen::Vector2d> xy1, double focal_px,
+                                  const TwoViewConfig& config = {});
+
+/// ORB-SLAM's model score: sum over matches and both directions of (5.99 - d^2 / sigma^2)
+/// where d^2 / sigma^2 is below the model's chi-square threshold, 0 elsewhere; `inliers`
+/// flags matches within the threshold in both directions. d is in pixels (normalised * focal).
+double score_essential(const Eigen::Matrix3d& E, std::span<const Eigen::Vector2d> xy0,
+                       std::span<const Eigen::Vector2d> xy1, double focal_px, double sigma_px,
+                       std::vector<uint8_t>& inliers);
+double score_homography(const Eigen::Matrix3d& H_1_0, std::span<const Eigen::Vector2d> xy0,
+                        std::span<const Eigen::Vector2d> xy1, double focal_px, double sigma_px,
+                        std::vector<uint8_t>& inliers);
+
+}  // namespace pllvo::geometry
