@@ -1,73 +1,19 @@
 #include "pllvo/vo/geometry_adapter.h"
 
 #include <algorithm>
-#include <cmath>
+#include <chrono>
+#include <map>
+#include <set>
 
-#include <opencv2/calib3d.hpp>
-#include <opencv2/core/eigen.hpp>
+#include "pllvo/backend/pose_refiner.h"
+#include "pllvo/backend/sliding_window_ba.h"
+#include "pllvo/geometry/pnp.h"
+#include "pllvo/geometry/reprojection.h"
+#include "pllvo/geometry/stereo_triangulation.h"
+#include "pllvo/geometry/triangulation.h"
+#include "pllvo/geometry/two_view.h"
 
 namespace pllvo::vo {
-namespace {
-
-cv::Mat cv_K(const Pinhole& cam) {
-  return (cv::Mat_<double>(3, 3) << cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1);
-}
-
-std::vector<cv::Point3d> to_cv(const std::vector<Eigen::Vector3d>& v) {
-  std::vector<cv::Point3d> out;
-  out.reserve(v.size());
-  for (const auto& p : v) out.emplace_back(p.x(), p.y(), p.z());
-  return out;
-}
-
-std::vector<cv::Point2d> to_cv(const std::vector<Eigen::Vector2d>& v) {
-  std::vector<cv::Point2d> out;
-  out.reserve(v.size());
-  for (const auto& p : v) out.emplace_back(p.x(), p.y());
-  return out;
-}
-
-geometry::Pose pose_from_rvec(const cv::Mat& rvec, const cv::Mat& tvec) {
-  cv::Mat R;
-  cv::Rodrigues(rvec, R);
-  Eigen::Matrix3d Re;
-  Eigen::Vector3d te;
-  cv::cv2eigen(R, Re);
-  cv::cv2eigen(tvec, te);
-  return geometry::make_pose(Re, te);
-}
-
-void rvec_from_pose(const geometry::Pose& T, cv::Mat& rvec, cv::Mat& tvec) {
-  cv::Mat R;
-  cv::eigen2cv(Eigen::Matrix3d(T.linear()), R);
-  cv::Rodrigues(R, rvec);
-  cv::eigen2cv(Eigen::Vector3d(T.translation()), tvec);
-}
-
-/// Marks points reprojecting within `threshold` pixels.
-int count_inliers(const Pinhole& cam, const geometry::Pose& T_cam_world, const std::vector<Eigen::Vector3d>& pts,
-                  const std::vector<Eigen::Vector2d>& px, double threshold, std::vector<unsigned char>& inliers) {
-  inliers.assign(pts.size(), 0);
-  int n = 0;
-  for (size_t i = 0; i < pts.size(); ++i) {
-    Eigen::Vector2d uv;
-    if (!cam.project(T_cam_world * pts[i], uv)) continue;
-    if ((uv - px[i]).norm() <= threshold) inliers[i] = 1, ++n;
-  }
-  return n;
-}
-
-double ray_angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180.0 / M_PI;
-}
-
-}  // namespace
-
-Eigen::Matrix3d Pinhole::K() const {
-  Eigen::Matrix3d k;
-  k << fx, 0, cx, 0, fy, cy, 0, 0, 1;
-  return k;
-}
 
 bool Pinhole::project(const Eigen::Vector3d& p, Eigen::Vector2d& px) const {
   if (!(p.z() > 1e-6)) return false;
@@ -75,142 +21,215 @@ bool Pinhole::project(const Eigen::Vector3d& p, Eigen::Vector2d& px) const {
   return true;
 }
 
-Eigen::Vector3d Pinhole::ray(const Eigen::Vector2d& px) const {
-  return {(px.x() - cx) / fx, (px.y() - cy) / fy, 1.0};
-}
-
 bool Pinhole::inside(const Eigen::Vector2d& px, double border) const {
   return px.x() >= border && px.y() >= border && px.x() <= width - 1 - border && px.y() <= height - 1 - border;
 }
 
-// INTERIM (until geometry/ lands): cv::solvePnPRansac + cv::solvePnPRefineLM.
-PoseEstimate estimate_pose_ransac(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
-                                  const std::vector<Eigen::Vector2d>& pixels, const geometry::Pose* guess,
-                                  const PoseConfig& config) {
+namespace {
+
+std::vector<Eigen::Vector2d> normalised(const Pinhole& cam, const std::vector<Eigen::Vector2d>& px) {
+  std::vector<Eigen::Vector2d> xy;
+  xy.reserve(px.size());
+  for (const auto& p : px) xy.push_back(cam.normalised(p));
+  return xy;
+}
+
+Eigen::Vector3d observed_line(const Pinhole& cam, const Segment2d& s) {
+  return geometry::line_through(cam.normalised(s.a), cam.normalised(s.b));
+}
+
+}  // namespace
+
+PoseEstimate estimate_pose_pnp(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
+                               const std::vector<Eigen::Vector2d>& pixels, const geometry::PnpConfig& config) {
   PoseEstimate est;
-  if (points_world.size() < 6 || points_world.size() != pixels.size()) return est;
-  cv::Mat rvec, tvec;
-  if (guess) rvec_from_pose(*guess, rvec, tvec);
-  std::vector<int> inlier_idx;
-  const bool ok = cv::solvePnPRansac(to_cv(points_world), to_cv(pixels), cv_K(cam), cv::noArray(), rvec, tvec,
-                                     guess != nullptr, config.ransac_iterations,
-                                     static_cast<float>(config.ransac_threshold_px), config.ransac_confidence,
-                                     inlier_idx, cv::SOLVEPNP_ITERATIVE);
-  if (!ok || static_cast<int>(inlier_idx.size()) < config.min_inliers) return est;
-  est.T_cam_world = pose_from_rvec(rvec, tvec);
-  est.num_inliers = count_inliers(cam, est.T_cam_world, points_world, pixels, config.ransac_threshold_px, est.inliers);
-  est.ok = est.num_inliers >= config.min_inliers;
+  const auto xy = normalised(cam, pixels);
+  const auto pnp = geometry::solve_pnp_ransac(points_world, xy, cam.focal(), config);
+  if (!pnp.ok) return est;
+  est.ok = true;
+  est.from_pnp = true;
+  est.T_world_cam = pnp.T_world_cam;
+  est.point_inliers.assign(pnp.inliers.begin(), pnp.inliers.end());
+  est.num_point_inliers = pnp.num_inliers;
   return est;
 }
 
-// INTERIM (until backend/ lands): points only, Levenberg-Marquardt without robust loss.
-PoseEstimate refine_pose(const Pinhole& cam, const geometry::Pose& T_cam_world,
-                         const std::vector<Eigen::Vector3d>& points_world, const std::vector<Eigen::Vector2d>& pixels,
-                         const std::vector<unsigned char>& use, const std::vector<LineMeasurement>& /*lines*/,
-                         const PoseConfig& config) {
+PoseEstimate estimate_pose(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
+                           const std::vector<Eigen::Vector2d>& pixels, const std::vector<LineMeasurement>& lines,
+                           const std::optional<geometry::Pose>& predicted_T_world_cam,
+                           const geometry::GeometryConfig& geometry, const backend::BackendConfig& backend) {
   PoseEstimate est;
-  std::vector<Eigen::Vector3d> pts;
-  std::vector<Eigen::Vector2d> px;
-  for (size_t i = 0; i < points_world.size(); ++i)
-    if (use[i]) pts.push_back(points_world[i]), px.push_back(pixels[i]);
-  est.T_cam_world = T_cam_world;
-  if (pts.size() >= 4) {
-    cv::Mat rvec, tvec;
-    rvec_from_pose(T_cam_world, rvec, tvec);
-    cv::solvePnPRefineLM(to_cv(pts), to_cv(px), cv_K(cam), cv::noArray(), rvec, tvec);
-    est.T_cam_world = pose_from_rvec(rvec, tvec);
+  const auto xy = normalised(cam, pixels);
+  geometry::PnpResult pnp;
+  if (static_cast<int>(points_world.size()) >= geometry.pnp.min_inliers)
+    pnp = geometry::solve_pnp_ransac(points_world, xy, cam.focal(), geometry.pnp);
+  if (!pnp.ok && !predicted_T_world_cam) return est;
+
+  // Refinement on the PnP inliers (the RANSAC outliers are gross and would only bias the
+  // first round), or on everything when starting from the prediction.
+  backend::PoseRefinementProblem problem;
+  problem.T_world_cam = pnp.ok ? pnp.T_world_cam : *predicted_T_world_cam;
+  problem.focal_px = cam.focal();
+  problem.predicted_T_world_cam = predicted_T_world_cam;
+  std::vector<int> used;
+  for (size_t i = 0; i < points_world.size(); ++i) {
+    if (pnp.ok && !pnp.inliers[i]) continue;
+    problem.points.push_back({points_world[i], xy[i], 0});
+    used.push_back(static_cast<int>(i));
   }
-  est.num_inliers = count_inliers(cam, est.T_cam_world, points_world, pixels, config.ransac_threshold_px, est.inliers);
-  est.ok = est.num_inliers >= config.min_inliers;
+  for (const auto& l : lines) problem.lines.push_back({l.start_world, l.end_world, observed_line(cam, l.observed), 0});
+  const auto refined = backend::PoseRefiner(backend.pose_refiner).refine(problem);
+  if (!refined.ok) return est;
+  est.ok = true;
+  est.from_pnp = pnp.ok;
+  est.T_world_cam = refined.T_world_cam;
+  est.point_inliers.assign(points_world.size(), 0);
+  for (size_t k = 0; k < used.size(); ++k) est.point_inliers[used[k]] = refined.point_inliers[k];
+  est.line_inliers.assign(refined.line_inliers.begin(), refined.line_inliers.end());
+  est.num_point_inliers = refined.num_point_inliers;
+  est.num_line_inliers = refined.num_line_inliers;
   return est;
 }
 
-// INTERIM (until geometry/ lands): essential matrix only; a homography-dominated pair
-// (planar scene or too little translation) is refused, so initialisation waits for motion.
-TwoViewResult initialize_two_view(const Pinhole& cam, const std::vector<Eigen::Vector2d>& px0,
-                                  const std::vector<Eigen::Vector2d>& px1, const InitConfig& config) {
-  TwoViewResult r;
-  if (px0.size() < 8 || px0.size() != px1.size()) return r;
-  const auto p0 = to_cv(px0), p1 = to_cv(px1);
-  cv::Mat maskE, maskH;
-  cv::Mat E = cv::findEssentialMat(p0, p1, cv_K(cam), cv::RANSAC, 0.999, 1.0, maskE);
-  cv::Mat H = cv::findHomography(p0, p1, cv::RANSAC, 2.0, maskH);
-  if (E.empty() || E.rows != 3) return r;
-  const int inE = cv::countNonZero(maskE), inH = H.empty() ? 0 : cv::countNonZero(maskH);
-  r.model = inH > 0.9 * inE ? "homography" : "essential";
-  if (r.model == "homography") return r;
-  cv::Mat R, t, tri;
-  cv::recoverPose(E, p0, p1, cv_K(cam), R, t, 1e3, maskE, tri);
-  Eigen::Matrix3d Re;
-  Eigen::Vector3d te;
-  cv::cv2eigen(R, Re);
-  cv::cv2eigen(t, te);
-  r.T_1_0 = geometry::make_pose(Re, te.normalized());
-  r.points_0.assign(px0.size(), Eigen::Vector3d::Zero());
-  r.valid.assign(px0.size(), 0);
-  std::vector<double> parallax;
-  const Eigen::Vector3d c1_in_0 = r.T_1_0.inverse().translation();
-  for (size_t i = 0; i < px0.size(); ++i) {
-    if (!maskE.at<unsigned char>(static_cast<int>(i))) continue;
-    const double w = tri.at<double>(3, static_cast<int>(i));
-    if (std::abs(w) < 1e-12) continue;
-    const Eigen::Vector3d X(tri.at<double>(0, i) / w, tri.at<double>(1, i) / w, tri.at<double>(2, i) / w);
-    const Eigen::Vector3d X1 = r.T_1_0 * X;
-    Eigen::Vector2d uv0, uv1;
-    if (!cam.project(X, uv0) || !cam.project(X1, uv1)) continue;
-    if ((uv0 - px0[i]).norm() > 2.0 || (uv1 - px1[i]).norm() > 2.0) continue;
-    const double angle = ray_angle_deg(X, X - c1_in_0);
-    if (angle < 0.25 * config.mono_min_parallax_deg) continue;
-    r.points_0[i] = X;
-    r.valid[i] = 1;
-    parallax.push_back(angle);
-  }
-  if (static_cast<int>(parallax.size()) < config.min_points / 2) return r;
-  std::nth_element(parallax.begin(), parallax.begin() + parallax.size() / 2, parallax.end());
-  r.median_parallax_deg = parallax[parallax.size() / 2];
-  r.ok = r.median_parallax_deg >= config.mono_min_parallax_deg;
-  return r;
+TwoViewInit initialize_two_view(const Pinhole& cam, const std::vector<Eigen::Vector2d>& px0,
+                                const std::vector<Eigen::Vector2d>& px1, const geometry::TwoViewConfig& config) {
+  TwoViewInit init;
+  const auto r = geometry::initialise_two_view(normalised(cam, px0), normalised(cam, px1), cam.focal(), config);
+  init.model = geometry::to_string(r.model);
+  init.failure = r.failure;
+  init.median_parallax_deg = r.median_parallax_deg;
+  if (!r.ok) return init;
+  init.ok = true;
+  init.T_cam1_cam0 = r.T_cam1_cam0;
+  init.points_cam0.resize(px0.size());
+  for (size_t i = 0; i < px0.size(); ++i)
+    if (r.triangulated[i]) init.points_cam0[i] = r.points_cam0[i];
+  return init;
 }
 
-// INTERIM (until geometry/ lands): cv::triangulatePoints on normalised coordinates.
-std::optional<Eigen::Vector3d> triangulate_point(const Pinhole& cam, const geometry::Pose& T_world_c0,
-                                                 const geometry::Pose& T_world_c1, const Eigen::Vector2d& px0,
-                                                 const Eigen::Vector2d& px1, const MappingConfig& config) {
-  const geometry::Pose T0 = T_world_c0.inverse(), T1 = T_world_c1.inverse();
-  const Eigen::Vector3d r0 = T_world_c0.linear() * cam.ray(px0), r1 = T_world_c1.linear() * cam.ray(px1);
-  if (ray_angle_deg(r0, r1) < config.min_parallax_deg) return std::nullopt;
-  cv::Mat P0, P1;
-  cv::eigen2cv(Eigen::Matrix<double, 3, 4>(T0.matrix().topRows<3>()), P0);
-  cv::eigen2cv(Eigen::Matrix<double, 3, 4>(T1.matrix().topRows<3>()), P1);
-  const Eigen::Vector3d n0 = cam.ray(px0), n1 = cam.ray(px1);
-  cv::Mat x0 = (cv::Mat_<double>(2, 1) << n0.x(), n0.y()), x1 = (cv::Mat_<double>(2, 1) << n1.x(), n1.y());
-  cv::Mat X;
-  cv::triangulatePoints(P0, P1, x0, x1, X);
-  const double w = X.at<double>(3);
-  if (std::abs(w) < 1e-12) return std::nullopt;
-  const Eigen::Vector3d Xw(X.at<double>(0) / w, X.at<double>(1) / w, X.at<double>(2) / w);
-  const Eigen::Vector3d c0 = T0 * Xw, c1 = T1 * Xw;
-  for (const auto& [pc, px] : {std::pair{c0, px0}, std::pair{c1, px1}}) {
-    if (pc.z() < config.min_depth_m || pc.z() > config.max_depth_m) return std::nullopt;
-    Eigen::Vector2d uv;
-    if (!cam.project(pc, uv) || (uv - px).norm() > config.max_reprojection_px) return std::nullopt;
-  }
-  return Xw;
+std::optional<Eigen::Vector3d> triangulate_point(const Pinhole& cam, const std::vector<geometry::Pose>& T_world_cam,
+                                                 const std::vector<Eigen::Vector2d>& pixels,
+                                                 const geometry::PointTriangulationConfig& config) {
+  const auto t = geometry::triangulate_point(T_world_cam, normalised(cam, pixels), cam.focal(), config);
+  if (!t.ok()) return std::nullopt;
+  return t.p_world;
 }
 
 std::optional<Eigen::Vector3d> triangulate_stereo(const Pinhole& cam, double baseline, const Eigen::Vector2d& left,
-                                                  const Eigen::Vector2d& right, double min_depth, double max_depth) {
-  const double disparity = left.x() - right.x();
-  if (disparity <= 0) return std::nullopt;
-  const double z = cam.fx * baseline / disparity;
-  if (z < min_depth || z > max_depth) return std::nullopt;
-  return Eigen::Vector3d((left.x() - cam.cx) * z / cam.fx, (left.y() - cam.cy) * z / cam.fy, z);
+                                                  const Eigen::Vector2d& right,
+                                                  const geometry::StereoTriangulationConfig& config) {
+  camera::PinholeIntrinsics k;
+  k.fx = cam.fx, k.fy = cam.fy, k.cx = cam.cx, k.cy = cam.cy;
+  const auto s = geometry::triangulate_stereo(left, right, k, baseline, config);
+  if (!s.ok()) return std::nullopt;
+  return s.p_left;
 }
 
-// INTERIM (until backend/ lands): no optimisation.
-int bundle_adjust_window(MapData& /*map*/, const Pinhole& /*cam*/, const std::vector<Id>& /*window*/,
-                         int /*fixed*/, const MappingConfig& /*config*/) {
-  return 0;
+WindowBaResult bundle_adjust_window(Map& map, const Pinhole& cam, const std::vector<Id>& window, int max_anchors,
+                                    const backend::BundleAdjustmentConfig& config) {
+  WindowBaResult result;
+  if (window.size() < 2) return result;
+  backend::BaProblem problem;
+  problem.focal_px = cam.focal();
+  std::vector<Id> keyframes, points, lines;
+  std::vector<Observation> point_refs, line_refs;  // (keyframe, feature/line index) per observation
+
+  map.read([&](const MapData& m) {
+    const std::set<Id> in_window(window.begin(), window.end());
+    std::set<Id> point_set, line_set;
+    for (Id k : window) {
+      const Keyframe& kf = m.keyframes.at(k);
+      for (Id p : kf.point_ids)
+        if (p != kNoId) point_set.insert(p);
+      for (Id l : kf.line_ids)
+        if (l != kNoId) line_set.insert(l);
+    }
+    // Anchors: the newest older keyframes of the segment that share points with the window.
+    std::map<Id, int> shared;
+    const int segment = m.keyframes.at(window.front()).segment;
+    for (Id p : point_set)
+      for (const auto& o : m.points.at(p).observations)
+        if (!in_window.count(o.keyframe) && o.keyframe < window.front() &&
+            m.keyframes.at(o.keyframe).segment == segment)
+          ++shared[o.keyframe];
+    std::vector<Id> anchors;
+    for (auto it = shared.rbegin(); it != shared.rend() && static_cast<int>(anchors.size()) < max_anchors; ++it)
+      anchors.push_back(it->first);
+    std::sort(anchors.begin(), anchors.end());
+
+    std::map<Id, int> kf_index, point_index, line_index;
+    for (Id k : anchors) {
+      kf_index[k] = static_cast<int>(keyframes.size());
+      keyframes.push_back(k);
+      problem.keyframes.push_back({m.keyframes.at(k).T_world_cam, true});
+    }
+    for (Id k : window) {
+      kf_index[k] = static_cast<int>(keyframes.size());
+      keyframes.push_back(k);
+      problem.keyframes.push_back({m.keyframes.at(k).T_world_cam, false});
+    }
+    for (Id p : point_set) {
+      point_index[p] = static_cast<int>(points.size());
+      points.push_back(p);
+      problem.points.push_back({m.points.at(p).position, false});
+    }
+    for (Id l : line_set) {
+      line_index[l] = static_cast<int>(lines.size());
+      lines.push_back(l);
+      problem.lines.push_back({{m.lines.at(l).p, m.lines.at(l).q}, false});
+    }
+    for (Id k : keyframes) {
+      const Keyframe& kf = m.keyframes.at(k);
+      for (size_t i = 0; i < kf.point_ids.size(); ++i) {
+        auto it = point_index.find(kf.point_ids[i]);
+        if (it == point_index.end()) continue;
+        const Eigen::Vector2d px(kf.features.points[i].x, kf.features.points[i].y);
+        problem.point_observations.push_back({kf_index[k], it->second, 0, cam.normalised(px)});
+        point_refs.push_back({k, static_cast<int>(i)});
+      }
+      for (size_t i = 0; i < kf.line_ids.size(); ++i) {
+        auto it = line_index.find(kf.line_ids[i]);
+        if (it == line_index.end()) continue;
+        problem.line_observations.push_back({kf_index[k], it->second, 0, observed_line(cam, kf.lines[i])});
+        line_refs.push_back({k, static_cast<int>(i)});
+      }
+    }
+  });
+
+  const auto summary = backend::SlidingWindowBA(config).optimize(problem);
+  result.ran = true;
+  result.final_rms_px = summary.final_rms_px;
+  result.solve_ms = summary.solve_time_s * 1e3;
+  if (!summary.ok) return result;
+
+  map.write([&](MapData& m) {
+    for (size_t i = 0; i < keyframes.size(); ++i)
+      if (!problem.keyframes[i].fixed) m.keyframes.at(keyframes[i]).T_world_cam = problem.keyframes[i].T_world_cam;
+    for (size_t i = 0; i < points.size(); ++i) {
+      auto it = m.points.find(points[i]);
+      if (it != m.points.end()) it->second.position = problem.points[i].p_world;
+    }
+    for (size_t i = 0; i < lines.size(); ++i) {
+      auto it = m.lines.find(lines[i]);
+      if (it == m.lines.end()) continue;
+      it->second.p = problem.lines[i].segment_world.start;
+      it->second.q = problem.lines[i].segment_world.end;
+    }
+    for (size_t j = 0; j < point_refs.size(); ++j) {
+      if (!summary.point_outliers[j]) continue;
+      const Observation& o = point_refs[j];
+      const Id p = points[problem.point_observations[j].point];
+      m.unobserve_point(p, o.keyframe, o.index);
+      ++result.point_outliers;
+    }
+    for (size_t j = 0; j < line_refs.size(); ++j) {
+      if (!summary.line_outliers[j]) continue;
+      const Observation& o = line_refs[j];
+      m.unobserve_line(lines[problem.line_observations[j].line], o.keyframe, o.index);
+      ++result.line_outliers;
+    }
+  });
+  return result;
 }
 
 }  // namespace pllvo::vo

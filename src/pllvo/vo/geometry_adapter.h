@@ -1,7 +1,6 @@
 #pragma once
-// What the pipeline needs from geometry/ and backend/, as a few functions on the pipeline's
-// own types. The bodies call those modules; until they land, thin OpenCV calls stand in
-// (marked INTERIM), so the pipeline runs end to end from the start.
+// The pipeline's calls into geometry/ and backend/, on the pipeline's own types: pixels of
+// the ideal pinhole working images in, normalised coordinates (what those modules use) inside.
 #include <optional>
 #include <string>
 #include <vector>
@@ -9,9 +8,10 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "pllvo/backend/backend_config.h"
+#include "pllvo/geometry/geometry_config.h"
 #include "pllvo/geometry/pose.h"
 #include "pllvo/vo/map.h"
-#include "pllvo/vo/vo_config.h"
 
 namespace pllvo::vo {
 
@@ -19,68 +19,76 @@ namespace pllvo::vo {
 struct Pinhole {
   double fx = 0, fy = 0, cx = 0, cy = 0;
   int width = 0, height = 0;
-  Eigen::Matrix3d K() const;
   /// False behind the camera (z <= 1e-6).
   bool project(const Eigen::Vector3d& p_cam, Eigen::Vector2d& px) const;
-  /// Normalised ray (x, y, 1) through a pixel.
-  Eigen::Vector3d ray(const Eigen::Vector2d& px) const;
+  Eigen::Vector2d normalised(const Eigen::Vector2d& px) const { return {(px.x() - cx) / fx, (px.y() - cy) / fy}; }
+  Eigen::Vector2d pixel(const Eigen::Vector2d& xy) const { return {fx * xy.x() + cx, fy * xy.y() + cy}; }
+  double focal() const { return 0.5 * (fx + fy); }  ///< pixels per normalised unit
   bool inside(const Eigen::Vector2d& px, double border = 0) const;
+};
+
+/// A 3-D line (world endpoints) observed as a 2-D segment (pixels) in the frame.
+struct LineMeasurement {
+  Eigen::Vector3d start_world, end_world;
+  Segment2d observed;
 };
 
 struct PoseEstimate {
   bool ok = false;
-  geometry::Pose T_cam_world = geometry::Pose::Identity();
-  std::vector<unsigned char> inliers;  ///< per point
-  int num_inliers = 0;
+  geometry::Pose T_world_cam = geometry::Pose::Identity();
+  std::vector<unsigned char> point_inliers;  ///< per point given
+  std::vector<unsigned char> line_inliers;   ///< per line given
+  int num_point_inliers = 0, num_line_inliers = 0;
+  bool from_pnp = false;  ///< false: refined from the prediction alone (PnP failed)
 };
 
-/// A 3-D line (world endpoints) observed as a 2-D segment in the frame.
-struct LineMeasurement {
-  Eigen::Vector3d p_world, q_world;
-  Segment2d observed;
-};
+/// Pose of a frame: PnP + RANSAC on the points, then the robust refinement with points,
+/// lines and (when `predicted` is given) the motion prior. Without a PnP solution the
+/// refinement starts at the prediction, so lines can carry a frame with few points.
+PoseEstimate estimate_pose(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
+                           const std::vector<Eigen::Vector2d>& pixels, const std::vector<LineMeasurement>& lines,
+                           const std::optional<geometry::Pose>& predicted_T_world_cam,
+                           const geometry::GeometryConfig& geometry, const backend::BackendConfig& backend);
 
-/// PnP + RANSAC; `guess` (the motion prior) seeds it when given.
-PoseEstimate estimate_pose_ransac(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
-                                  const std::vector<Eigen::Vector2d>& pixels, const geometry::Pose* guess,
-                                  const PoseConfig& config);
+/// PnP + RANSAC alone (frames seen during monocular initialisation).
+PoseEstimate estimate_pose_pnp(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
+                               const std::vector<Eigen::Vector2d>& pixels, const geometry::PnpConfig& config);
 
-/// Robust refinement minimising point reprojection error plus the line error (distance of
-/// projected 3-D endpoints to the observed 2-D line), over the points marked in `use`.
-/// Returns the refined pose and the points whose residual is below the RANSAC threshold.
-PoseEstimate refine_pose(const Pinhole& cam, const geometry::Pose& T_cam_world,
-                         const std::vector<Eigen::Vector3d>& points_world, const std::vector<Eigen::Vector2d>& pixels,
-                         const std::vector<unsigned char>& use, const std::vector<LineMeasurement>& lines,
-                         const PoseConfig& config);
-
-struct TwoViewResult {
+struct TwoViewInit {
   bool ok = false;
-  std::string model;  ///< "essential" or "homography"
-  geometry::Pose T_1_0 = geometry::Pose::Identity();  ///< second camera from first; |t| = 1
-  std::vector<Eigen::Vector3d> points_0;              ///< triangulated, first camera frame
-  std::vector<unsigned char> valid;                   ///< per correspondence
+  std::string model;  ///< "essential" | "homography"
+  std::string failure;
+  geometry::Pose T_cam1_cam0 = geometry::Pose::Identity();  ///< |t| = 1
+  std::vector<std::optional<Eigen::Vector3d>> points_cam0;  ///< per correspondence
   double median_parallax_deg = 0;
 };
 
-/// Monocular initialisation from pixel correspondences: essential matrix vs homography,
-/// chosen by score, then triangulation with parallax and depth checks.
-TwoViewResult initialize_two_view(const Pinhole& cam, const std::vector<Eigen::Vector2d>& px0,
-                                  const std::vector<Eigen::Vector2d>& px1, const InitConfig& config);
+/// Monocular initialisation from pixel correspondences (E vs H, chosen by score).
+TwoViewInit initialize_two_view(const Pinhole& cam, const std::vector<Eigen::Vector2d>& px0,
+                                const std::vector<Eigen::Vector2d>& px1, const geometry::TwoViewConfig& config);
 
-/// Point from two views with known poses; nullopt when the rays are too parallel, the point
-/// lies behind a camera or outside the depth range, or it reprojects badly.
-std::optional<Eigen::Vector3d> triangulate_point(const Pinhole& cam, const geometry::Pose& T_world_c0,
-                                                 const geometry::Pose& T_world_c1, const Eigen::Vector2d& px0,
-                                                 const Eigen::Vector2d& px1, const MappingConfig& config);
+/// Point from views with known poses (parallax, depth and reprojection checks).
+std::optional<Eigen::Vector3d> triangulate_point(const Pinhole& cam, const std::vector<geometry::Pose>& T_world_cam,
+                                                 const std::vector<Eigen::Vector2d>& pixels,
+                                                 const geometry::PointTriangulationConfig& config);
 
-/// Point in the left rectified camera from a left-right match (disparity along x).
+/// Point in the left rectified camera from a left-right match.
 std::optional<Eigen::Vector3d> triangulate_stereo(const Pinhole& cam, double baseline, const Eigen::Vector2d& left,
-                                                  const Eigen::Vector2d& right, double min_depth, double max_depth);
+                                                  const Eigen::Vector2d& right,
+                                                  const geometry::StereoTriangulationConfig& config);
 
-/// Sliding-window bundle adjustment over `window` (oldest first); the first `fixed` keyframes
-/// stay fixed. Updates poses, points and lines in `map`; returns the number of observations
-/// rejected as outliers (their links are removed).
-int bundle_adjust_window(MapData& map, const Pinhole& cam, const std::vector<Id>& window, int fixed,
-                         const MappingConfig& config);
+struct WindowBaResult {
+  bool ran = false;
+  int point_outliers = 0, line_outliers = 0;
+  double final_rms_px = 0;
+  double solve_ms = 0;
+};
+
+/// Sliding-window bundle adjustment: `window` (keyframe ids, oldest first) plus, fixed, up to
+/// `max_anchors` older keyframes of the same segment that see the window's points. Reads the
+/// map under its lock, solves without it (only the worker writes the map, so nothing changes
+/// meanwhile), then writes poses, points and lines back and unlinks outlier observations.
+WindowBaResult bundle_adjust_window(Map& map, const Pinhole& cam, const std::vector<Id>& window, int max_anchors,
+                                    const backend::BundleAdjustmentConfig& config);
 
 }  // namespace pllvo::vo

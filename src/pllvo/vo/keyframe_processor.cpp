@@ -23,7 +23,11 @@ KeyframeProcessor::KeyframeProcessor(const VoConfig& config, const Pinhole& came
       frontend_(make_point_frontend(config.frontend)),
       matcher_(make_keyframe_matcher(config.mapping, config.frontend.type)),
       frontend_name_(frontend_->name()),
-      stereo_tracker_(config.klt) {}
+      stereo_tracker_(config.klt) {
+  // A monocular map has a free scale as well: two fixed keyframes pin it.
+  if (baseline_ <= 0)
+    config_.backend.bundle_adjustment.num_fixed_oldest = std::max(2, config_.backend.bundle_adjustment.num_fixed_oldest);
+}
 
 PointFeatures KeyframeProcessor::detect(const cv::Mat& image) {
   ScopedTimer t(stats_, "kf_detect");
@@ -51,9 +55,8 @@ std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::stereo_points(con
   const TrackResult tr = stereo_tracker_.track(left, right, pts);
   for (size_t k = 0; k < which.size(); ++k) {
     if (!tr.ok[k]) continue;
-    if (std::abs(tr.points[k].y - pts[k].y) > config_.init.stereo_max_epipolar_px) continue;
     out[which[k]] = triangulate_stereo(camera_, baseline_, to_eigen(pts[k]), to_eigen(tr.points[k]),
-                                       config_.init.min_depth_m, config_.init.max_depth_m);
+                                       config_.geometry.stereo);
   }
   return out;
 }
@@ -72,16 +75,18 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& job) {
   }
   const size_t n = features.size();
   std::vector<Id> ids(n, kNoId);
-  std::vector<Observation> origins(n);  // kNoId: the keyframe itself (set when added)
-  std::vector<int> prev_index(n, -1);   // matched feature in the previous keyframe
+  std::vector<Observation> origins(n);   // first keyframe observation (kNoId: this keyframe)
+  std::vector<Observation> previous(n);  // latest earlier keyframe observation, when newer than the origin
   for (size_t i = 0; i < n; ++i) {
     const int s = features.source.empty() ? -1 : features.source[i];
     if (s < 0) continue;
     const TrackedPoint& tp = job.tracks[s];
-    if (tp.point != kNoId)
+    if (tp.point != kNoId) {
       ids[i] = tp.point;
-    else
+    } else {
       origins[i] = tp.origin;
+      if (tp.last.keyframe != tp.origin.keyframe) previous[i] = tp.last;
+    }
   }
 
   const bool has_prev = !job.first && !segment_keyframes_.empty();
@@ -93,44 +98,48 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& job) {
     result.matches = static_cast<int>(matches.size());
     std::set<Id> used(ids.begin(), ids.end());
     for (const auto& mt : matches) {
-      prev_index[mt.b] = mt.a;
+      if (ids[mt.b] != kNoId || origins[mt.b].keyframe != kNoId) continue;  // tracked: already known
       const Id pid = prev.point_ids[mt.a];
-      if (ids[mt.b] != kNoId) continue;
       if (pid != kNoId) {
         if (!used.count(pid)) ids[mt.b] = pid, used.insert(pid);
-      } else if (origins[mt.b].keyframe == kNoId) {
+      } else {
         origins[mt.b] = prev.origins[mt.a];
+        if (prev.origins[mt.a].keyframe != prev.id) previous[mt.b] = {prev.id, mt.a};
       }
     }
   }
 
-  // Keep only associations that agree with the keyframe pose (a wrong match or a drifted
-  // track would otherwise pull the bundle adjustment).
-  std::vector<Eigen::Vector3d> positions(n);
-  struct OriginView {
-    geometry::Pose T_world_cam;
-    Eigen::Vector2d px;
-    bool ok = false;
+  // Map points and the earlier views of candidates, read once.
+  struct Views {
+    std::vector<geometry::Pose> T_world_cam;
+    std::vector<Eigen::Vector2d> px;
   };
-  std::vector<OriginView> origin_views(n);
+  std::vector<Eigen::Vector3d> positions(n);
+  std::vector<Views> views(n);
   map_.read([&](const MapData& m) {
+    auto add_view = [&](Views& v, const Observation& o) {
+      auto kf = m.keyframes.find(o.keyframe);
+      if (kf == m.keyframes.end() || o.index < 0 || o.index >= static_cast<int>(kf->second.features.size())) return;
+      v.T_world_cam.push_back(kf->second.T_world_cam);
+      v.px.push_back(to_eigen(kf->second.features.points[o.index]));
+    };
     for (size_t i = 0; i < n; ++i) {
       if (ids[i] != kNoId) {
         auto it = m.points.find(ids[i]);
-        if (it == m.points.end()) {
+        if (it == m.points.end())
           ids[i] = kNoId;
-          continue;
-        }
-        positions[i] = it->second.position;
+        else
+          positions[i] = it->second.position;
       } else if (origins[i].keyframe != kNoId) {
-        auto kf = m.keyframes.find(origins[i].keyframe);
-        if (kf == m.keyframes.end()) continue;
-        origin_views[i] = {kf->second.T_world_cam, to_eigen(kf->second.features.points[origins[i].index]), true};
+        add_view(views[i], origins[i]);
+        if (previous[i].keyframe != kNoId) add_view(views[i], previous[i]);
       }
     }
   });
+  // Keep only associations that agree with the keyframe pose (a wrong match or a drifted
+  // track would otherwise pull the bundle adjustment).
   const geometry::Pose T_cam_world = job.T_world_cam.inverse();
-  const double gate = 3.0 * config_.mapping.max_reprojection_px;
+  const double gate = 3.0 * config_.geometry.point_triangulation.max_reprojection_error_px;
   for (size_t i = 0; i < n; ++i) {
     if (ids[i] == kNoId) continue;
     Eigen::Vector2d uv;
@@ -144,9 +153,11 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& job) {
   {
     ScopedTimer t(stats_, "kf_triangulate");
     for (size_t i = 0; i < n; ++i) {
-      if (ids[i] != kNoId || stereo[i] || !origin_views[i].ok) continue;
-      triangulated[i] = triangulate_point(camera_, origin_views[i].T_world_cam, job.T_world_cam,
-                                          origin_views[i].px, to_eigen(features.points[i]), config_.mapping);
+      if (ids[i] != kNoId || stereo[i] || views[i].px.empty()) continue;
+      Views v = views[i];
+      v.T_world_cam.push_back(job.T_world_cam);
+      v.px.push_back(to_eigen(features.points[i]));
+      triangulated[i] = triangulate_point(camera_, v.T_world_cam, v.px, config_.geometry.point_triangulation);
     }
   }
   if (job.first) {
@@ -154,7 +165,6 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& job) {
     if (made < config_.init.stereo_min_points) return result;
   }
 
-  const Id prev_id = has_prev ? segment_keyframes_.back() : kNoId;
   Id kid = kNoId;
   int new_points = 0;
   map_.write([&](MapData& m) {
@@ -167,6 +177,12 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& job) {
     kf.features = features;
     kf.origins = origins;
     kid = m.add_keyframe(std::move(kf));
+    // Links an earlier keyframe's feature to a new point unless it already has one.
+    auto link_earlier = [&](Id pid, const Observation& o) {
+      if (o.keyframe == kNoId) return;
+      auto k = m.keyframes.find(o.keyframe);
+      if (k != m.keyframes.end() && k->second.point_ids[o.index] == kNoId) m.observe_point(pid, o.keyframe, o.index);
+    };
     for (size_t i = 0; i < n; ++i) {
       const int idx = static_cast<int>(i);
       if (ids[i] != kNoId && m.points.count(ids[i])) {
@@ -178,11 +194,8 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& job) {
         ++new_points;
       } else if (triangulated[i]) {
         const Id pid = m.add_point(*triangulated[i]);
-        const Observation& o = origins[i];
-        if (m.keyframes.at(o.keyframe).point_ids[o.index] == kNoId) m.observe_point(pid, o.keyframe, o.index);
-        if (prev_id != kNoId && prev_id != o.keyframe && prev_index[i] >= 0 &&
-            m.keyframes.at(prev_id).point_ids[prev_index[i]] == kNoId)
-          m.observe_point(pid, prev_id, prev_index[i]);
+        link_earlier(pid, origins[i]);
+        link_earlier(pid, previous[i]);
         m.observe_point(pid, kid, idx);
         ids[i] = pid;
         ++new_points;
@@ -200,18 +213,22 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& job) {
 
   {
     ScopedTimer t(stats_, "kf_ba");
-    const size_t window = static_cast<size_t>(config_.mapping.window_keyframes);
-    std::vector<Id> ids_window(segment_keyframes_.end() - std::min(window, segment_keyframes_.size()),
-                               segment_keyframes_.end());
-    const int fixed = std::max(1, std::min<int>(config_.mapping.fixed_keyframes, static_cast<int>(ids_window.size()) - 1));
-    if (ids_window.size() >= 2)
-      map_.write([&](MapData& m) { return bundle_adjust_window(m, camera_, ids_window, fixed, config_.mapping); });
+    const size_t window = static_cast<size_t>(config_.backend.bundle_adjustment.window_size);
+    const std::vector<Id> ids_window(segment_keyframes_.end() - std::min(window, segment_keyframes_.size()),
+                                     segment_keyframes_.end());
+    const auto ba = bundle_adjust_window(map_, camera_, ids_window, config_.mapping.max_anchor_keyframes,
+                                         config_.backend.bundle_adjustment);
+    if (ba.ran) {
+      stats_.add_sample("ba_rms_px", ba.final_rms_px);
+      stats_.add_count("ba_point_outliers", ba.point_outliers);
+      stats_.add_count("ba_line_outliers", ba.line_outliers);
+    }
   }
 
   map_.read([&](const MapData& m) {
     const auto& kf = m.keyframes.at(kid);
     for (size_t i = 0; i < kf.point_ids.size(); ++i)
-      result.tracks.push_back({kf.features.points[i], kf.point_ids[i], kf.origins[i]});
+      result.tracks.push_back({kf.features.points[i], kf.point_ids[i], kf.origins[i], {kid, static_cast<int>(i)}});
   });
   spdlog::debug("keyframe {} (frame {}, {}): {} features, {} matches, {} new points, {} tracked", kid,
                 job.frame_index, to_string(job.reason), n, result.matches, new_points, result.tracks.size());
@@ -237,6 +254,7 @@ KeyframeResult KeyframeProcessor::initialize_mono(const KeyframeJob& reference, 
       TrackedPoint tp;
       tp.px = second_px[i];
       tp.origin = {kid, static_cast<int>(i)};
+      tp.last = tp.origin;
       if (i < ref_points_world.size() && ref_points_world[i]) {
         tp.point = m.add_point(*ref_points_world[i]);
         m.observe_point(tp.point, kid, static_cast<int>(i));

@@ -23,6 +23,7 @@ struct TrackedPoint {
   cv::Point2f px;
   Id point = kNoId;
   Observation origin;  ///< candidates: keyframe and feature where the track began
+  Observation last;    ///< the latest keyframe observation of the track
 };
 
 struct KeyframeJob {

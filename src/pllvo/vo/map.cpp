@@ -61,6 +61,30 @@ void MapData::observe_line(Id line, Id kf, int index) {
   l.observations.push_back({kf, index});
 }
 
+namespace {
+
+template <typename Landmark>
+void unlink(std::map<Id, Landmark>& landmarks, std::map<Id, Keyframe>& keyframes, Id id, Id kf, int index,
+            std::vector<Id> Keyframe::*ids) {
+  auto it = landmarks.find(id);
+  if (it == landmarks.end()) return;
+  auto& obs = it->second.observations;
+  obs.erase(std::remove_if(obs.begin(), obs.end(),
+                           [&](const Observation& o) { return o.keyframe == kf && o.index == index; }),
+            obs.end());
+  auto k = keyframes.find(kf);
+  if (k != keyframes.end() && index >= 0 && index < static_cast<int>((k->second.*ids).size()) &&
+      (k->second.*ids)[index] == id)
+    (k->second.*ids)[index] = kNoId;
+  if (obs.empty()) landmarks.erase(it);
+}
+
+}  // namespace
+
+void MapData::unobserve_point(Id point, Id kf, int index) { unlink(points, keyframes, point, kf, index, &Keyframe::point_ids); }
+
+void MapData::unobserve_line(Id line, Id kf, int index) { unlink(lines, keyframes, line, kf, index, &Keyframe::line_ids); }
+
 void MapData::erase_point(Id point) {
   auto it = points.find(point);
   if (it == points.end()) return;

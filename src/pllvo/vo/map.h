@@ -69,6 +69,10 @@ struct MapData {
   /// Links feature `index` of keyframe `kf` to the point (both directions).
   void observe_point(Id point, Id kf, int index);
   void observe_line(Id line, Id kf, int index);
+  /// Unlinks one observation (both directions); a point or line left without observations
+  /// is erased.
+  void unobserve_point(Id point, Id kf, int index);
+  void unobserve_line(Id line, Id kf, int index);
   /// Removes the point and every keyframe reference to it.
   void erase_point(Id point);
   void erase_line(Id line);

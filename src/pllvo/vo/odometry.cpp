@@ -170,12 +170,15 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   }
   if (median(flow) < config_.init.mono_min_flow_px) return false;
 
-  const TwoViewResult two_view = initialize_two_view(camera_, px0, px1, config_.init);
-  if (!two_view.ok) return false;
+  const TwoViewInit two_view = initialize_two_view(camera_, px0, px1, config_.geometry.two_view);
+  if (!two_view.ok) {
+    spdlog::debug("frame {}: two-view initialisation failed ({}: {})", frame.index, two_view.model, two_view.failure);
+    return false;
+  }
 
   // World = the reference camera's frame at the current segment start pose.
   const geometry::Pose T_world_ref = T_world_work_;
-  const geometry::Pose T_world_cur = T_world_ref * two_view.T_1_0.inverse();
+  const geometry::Pose T_world_cur = T_world_ref * two_view.T_cam1_cam0.inverse();
   std::vector<std::optional<Eigen::Vector3d>> ref_points(ref.features.size());
   std::vector<cv::Point2f> second_px(ref.features.size(), cv::Point2f(NAN, NAN));
   KeyframeJob second;
@@ -190,7 +193,7 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
     const int i = which[k];
     if (!tr.ok[k]) continue;
     second_px[i] = tr.points[k];
-    if (two_view.valid[j]) ref_points[i] = T_world_ref * two_view.points_0[j], ++made;
+    if (two_view.points_cam0[j]) ref_points[i] = T_world_ref * *two_view.points_cam0[j], ++made;
     ++j;
   }
   KeyframeJob reference;
@@ -234,12 +237,11 @@ void Odometry::localize_init_frames(const MonoReference& ref,
     std::vector<Eigen::Vector2d> obs;
     for (size_t i = 0; i < px.size(); ++i)
       if (points[i] && !std::isnan(px[i].x)) pts.push_back(*points[i]), obs.push_back(to_eigen(px[i]));
-    const geometry::Pose guess = T_world_ref.inverse();
-    const PoseEstimate e = estimate_pose_ransac(camera_, pts, obs, &guess, config_.pose);
+    const PoseEstimate e = estimate_pose_pnp(camera_, pts, obs, config_.geometry.pnp);
     if (!e.ok) continue;
     r->tracked = true;
-    r->T_world_cam = to_output(e.T_cam_world.inverse());
-    r->tracked_points = e.num_inliers;
+    r->T_world_cam = to_output(e.T_world_cam);
+    r->tracked_points = e.num_point_inliers;
   }
 }
 
@@ -296,15 +298,16 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   PoseEstimate estimate;
   {
     ScopedTimer t(stats_, "pose");
-    estimate = estimate_pose_ransac(camera_, pts, px, &T_pred_world, config_.pose);
-    if (estimate.ok) estimate = refine_pose(camera_, estimate.T_cam_world, pts, px, estimate.inliers, {}, config_.pose);
+    std::optional<geometry::Pose> predicted;
+    if (config_.pose.use_motion_prior && has_velocity_) predicted = T_world_pred;
+    estimate = estimate_pose(camera_, pts, px, {}, predicted, config_.geometry, config_.backend);
   }
 
   // Keep the tracks that survived KLT (and, on success, the pose's inlier test); candidates
   // (no map point yet) only need KLT.
   std::vector<TrackedPoint> kept;
   for (size_t k = 0; k < which.size(); ++k) {
-    if (estimate.ok && !estimate.inliers[k]) continue;
+    if (estimate.ok && !estimate.point_inliers[k]) continue;
     TrackedPoint tp = tracks_[which[k]];
     tp.px = tr.points[which[k]];
     kept.push_back(tp);
@@ -317,22 +320,23 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   }
   tracks_ = std::move(kept);
   spdlog::debug("frame {}: {} map points followed, {} pose inliers, {} tracks kept", frame.index, pts.size(),
-                estimate.ok ? estimate.num_inliers : 0, tracks_.size());
+                estimate.ok ? estimate.num_point_inliers : 0, tracks_.size());
 
   if (!estimate.ok) {
     spdlog::debug("frame {}: pose failed ({} tracked points)", frame.index, pts.size());
     handle_lost();
     return false;
   }
-  const geometry::Pose T_world_cur = estimate.T_cam_world.inverse();
+  const geometry::Pose T_world_cur = estimate.T_world_cam;
   velocity_ = T_world_work_.inverse() * T_world_cur;
   // After lost frames the step spans several frames: do not extrapolate it.
   has_velocity_ = lost_frames_ == 0;
   T_world_work_ = T_world_cur;
   lost_frames_ = 0;
-  record.tracked_points = estimate.num_inliers;
+  record.tracked_points = estimate.num_point_inliers;
+  record.tracked_lines = estimate.num_line_inliers;
 
-  maybe_make_keyframe(frame, left, right, pyramid, estimate.num_inliers);
+  maybe_make_keyframe(frame, left, right, pyramid, estimate.num_point_inliers);
   return true;
 }
 
@@ -396,7 +400,7 @@ void Odometry::apply_keyframe_results() {
       const TrackResult tr = tracker_.track(*from, pyr, pts);
       std::vector<TrackedPoint> next;
       for (size_t i = 0; i < fresh.size(); ++i)
-        if (tr.ok[i]) next.push_back({tr.points[i], fresh[i].point, fresh[i].origin});
+        if (tr.ok[i]) next.push_back({tr.points[i], fresh[i].point, fresh[i].origin, fresh[i].last});
       fresh = std::move(next);
       from = &pyr;
     }

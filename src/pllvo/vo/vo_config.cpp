@@ -50,24 +50,14 @@ void read_keyframes(const ConfigNode& n, KeyframePolicyConfig& c) {
 
 void read_init(const ConfigNode& n, InitConfig& c) {
   n.get("min_points", c.min_points);
-  n.get("mono_min_parallax_deg", c.mono_min_parallax_deg);
   n.get("mono_min_flow_px", c.mono_min_flow_px);
   n.get("max_frames", c.max_frames);
-  n.get("stereo_max_epipolar_px", c.stereo_max_epipolar_px);
-  n.get("min_depth_m", c.min_depth_m);
-  n.get("max_depth_m", c.max_depth_m);
   n.get("stereo_min_points", c.stereo_min_points);
   n.reject_unknown_keys();
 }
 
 void read_pose(const ConfigNode& n, PoseConfig& c) {
-  n.get("ransac_threshold_px", c.ransac_threshold_px);
-  n.get("ransac_iterations", c.ransac_iterations);
-  n.get("ransac_confidence", c.ransac_confidence);
-  n.get("min_inliers", c.min_inliers);
-  n.get("huber_px", c.huber_px);
   n.get("use_lines", c.use_lines);
-  n.get("line_weight", c.line_weight);
   n.get("use_motion_prior", c.use_motion_prior);
   n.get("lost_frames_before_reset", c.lost_frames_before_reset);
   n.reject_unknown_keys();
@@ -79,14 +69,7 @@ void read_mapping(const ConfigNode& n, MappingConfig& c) {
   n.get("mnn_max_distance", c.mnn_max_distance);
   n.get("orb_ratio", c.orb_ratio);
   n.get("orb_max_hamming", c.orb_max_hamming);
-  n.get("min_parallax_deg", c.min_parallax_deg);
-  n.get("max_reprojection_px", c.max_reprojection_px);
-  n.get("min_depth_m", c.min_depth_m);
-  n.get("max_depth_m", c.max_depth_m);
-  n.get("window_keyframes", c.window_keyframes);
-  n.get("fixed_keyframes", c.fixed_keyframes);
-  n.get("ba_iterations", c.ba_iterations);
-  n.get("ba_huber_px", c.ba_huber_px);
+  n.get("max_anchor_keyframes", c.max_anchor_keyframes);
   n.get("use_lines", c.use_lines);
   n.reject_unknown_keys();
 }
@@ -119,6 +102,8 @@ void VoConfig::read(const ConfigNode& node) {
   read_pose(node.child("pose"), pose);
   read_mapping(node.child("mapping"), mapping);
   read_run(node.child("run"), run);
+  geometry.load(node.child("geometry"));
+  backend.load(node.child("backend"));
   node.reject_unknown_keys();
 }
 
@@ -140,13 +125,12 @@ void VoConfig::validate(const std::filesystem::path& file) const {
           "keyframes.min_interval_s", "must be in [0, max_interval_s]");
   require(keyframes.line_angle_distance_deg > 0 && keyframes.line_angle_distance_deg <= 90, file,
           "keyframes.line_angle_distance_deg", "must be in (0, 90]");
-  require(pose.min_inliers >= 4, file, "pose.min_inliers", "must be at least 4");
-  require(pose.ransac_threshold_px > 0, file, "pose.ransac_threshold_px", "must be positive");
+  require(pose.lost_frames_before_reset >= 1, file, "pose.lost_frames_before_reset", "must be at least 1");
+  require(init.min_points >= 8, file, "init.min_points", "must be at least 8");
   require(mapping.matcher == "auto" || mapping.matcher == "lightglue" || mapping.matcher == "mnn", file,
           "mapping.matcher", "must be auto, lightglue or mnn");
-  require(mapping.window_keyframes >= 2, file, "mapping.window_keyframes", "must be at least 2");
-  require(mapping.fixed_keyframes >= 1 && mapping.fixed_keyframes < mapping.window_keyframes, file,
-          "mapping.fixed_keyframes", "must be in [1, window_keyframes)");
+  require(mapping.max_anchor_keyframes >= 0, file, "mapping.max_anchor_keyframes", "must not be negative");
+  require(klt.min_ncc >= -1 && klt.min_ncc <= 1, file, "klt.min_ncc", "must be in [-1, 1]");
 }
 
 }  // namespace pllvo::vo

@@ -4,7 +4,9 @@
 #include <filesystem>
 #include <string>
 
+#include "pllvo/backend/backend_config.h"
 #include "pllvo/common/yaml_config.h"
+#include "pllvo/geometry/geometry_config.h"
 
 namespace pllvo::vo {
 
@@ -70,45 +72,34 @@ struct KeyframePolicyConfig {
 };
 
 /// Initialisation: monocular two-view (E vs H) or stereo from rectified left-right matches.
+/// The geometric thresholds (parallax, depths, epipolar error) are geometry.two_view and
+/// geometry.stereo.
 struct InitConfig {
-  int min_points = 50;             ///< tracked points needed to try
-  double mono_min_parallax_deg = 1.0;  ///< median parallax before a two-view attempt
-  double mono_min_flow_px = 20.0;      ///< median image motion before a two-view attempt
-  int max_frames = 60;                 ///< give up on a reference frame after this many frames
-  double stereo_max_epipolar_px = 1.5;  ///< |y_left - y_right| in the rectified pair
-  double min_depth_m = 0.1;
-  double max_depth_m = 60.0;
-  int stereo_min_points = 30;
+  int min_points = 50;            ///< tracked points needed to try
+  double mono_min_flow_px = 20.0; ///< median image motion before a two-view attempt
+  int max_frames = 60;            ///< give up on a reference frame after this many frames
+  int stereo_min_points = 30;     ///< stereo points needed for the first keyframe
 };
 
-/// Per-frame pose: PnP RANSAC, then robust refinement with point and line residuals.
+/// Per-frame pose: PnP + RANSAC (geometry.pnp), then the robust refinement with point and
+/// line residuals and the motion prior (backend.pose_refiner).
 struct PoseConfig {
-  double ransac_threshold_px = 2.0;
-  int ransac_iterations = 100;
-  double ransac_confidence = 0.99;
-  int min_inliers = 12;           ///< below: the frame is lost
-  double huber_px = 1.5;          ///< robust loss scale for point residuals
-  bool use_lines = true;          ///< add line residuals in the refinement
-  double line_weight = 1.0;       ///< relative to point residuals (both in pixels)
+  bool use_lines = true;          ///< line residuals in the refinement
   bool use_motion_prior = true;   ///< predict with the last velocity (constant velocity)
   int lost_frames_before_reset = 3;  ///< consecutive failures before re-initialising
 };
 
-/// Keyframe processing on the worker: matching, triangulation, sliding-window BA.
+/// Keyframe processing on the worker: matching, triangulation (geometry.point_triangulation,
+/// geometry.line_triangulation), sliding-window BA (backend.bundle_adjustment).
 struct MappingConfig {
   std::string matcher = "auto";   ///< auto (LightGlue if weights exist, else MNN) | lightglue | mnn
   std::string lightglue_weights = "";
-  double mnn_max_distance = 0.9;  ///< float descriptors (unit norm): L2 distance
+  double mnn_max_distance = 0.7;  ///< float descriptors (unit norm): L2 distance (hloc's 0.7)
   double orb_ratio = 0.8;         ///< binary descriptors: Lowe ratio test
   int orb_max_hamming = 64;
-  double min_parallax_deg = 1.0;  ///< triangulation: angle between the two rays
-  double max_reprojection_px = 3.0;
-  double min_depth_m = 0.05;
-  double max_depth_m = 80.0;
-  int window_keyframes = 7;       ///< sliding window of the BA
-  int fixed_keyframes = 2;        ///< oldest keyframes of the window held fixed (gauge)
-  int ba_iterations = 10;
-  double ba_huber_px = 1.5;
+  /// Older keyframes (outside the window) that see the window's points join the BA, fixed,
+  /// to anchor it; at most this many.
+  int max_anchor_keyframes = 5;
   bool use_lines = true;
 };
 
@@ -126,6 +117,8 @@ struct VoConfig {
   PoseConfig pose;
   MappingConfig mapping;
   RunConfig run;
+  geometry::GeometryConfig geometry;  ///< section `geometry:` (keys of config/geometry.yaml)
+  backend::BackendConfig backend;     ///< section `backend:` (keys of config/backend.yaml)
 
   /// Defaults overridden by the file; InputError names the file and key of a bad value.
   static VoConfig load(const std::filesystem::path& file);
