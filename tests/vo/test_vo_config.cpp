@@ -30,8 +30,10 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.keyframes.line_min_angles, code.keyframes.line_min_angles);
   EXPECT_DOUBLE_EQ(file.klt.min_ncc, code.klt.min_ncc);
   EXPECT_EQ(file.init.max_frames, code.init.max_frames);
-  EXPECT_EQ(file.pose.min_inliers, code.pose.min_inliers);
-  EXPECT_EQ(file.mapping.window_keyframes, code.mapping.window_keyframes);
+  EXPECT_EQ(file.init.stereo_min_points, code.init.stereo_min_points);
+  EXPECT_EQ(file.pose.lost_frames_before_reset, code.pose.lost_frames_before_reset);
+  EXPECT_EQ(file.mapping.max_anchor_keyframes, code.mapping.max_anchor_keyframes);
+  EXPECT_DOUBLE_EQ(file.mapping.mnn_max_distance, code.mapping.mnn_max_distance);
   EXPECT_EQ(file.mapping.matcher, code.mapping.matcher);
   EXPECT_EQ(file.run.threaded, code.run.threaded);
 }
@@ -42,6 +44,16 @@ TEST(VoConfig, FileOverridesOnlyTheKeysItNames) {
   EXPECT_DOUBLE_EQ(c.keyframes.max_interval_s, 2.5);
   EXPECT_EQ(c.frontend.type, "shitomasi");
   EXPECT_EQ(c.keyframes.min_tracked_points, VoConfig().keyframes.min_tracked_points);
+}
+
+TEST(VoConfig, GeometryAndBackendSectionsReachTheirModules) {
+  const auto path = write_yaml("sections",
+                               "geometry:\n  pnp:\n    min_inliers: 25\nbackend:\n  bundle_adjustment:\n"
+                               "    window_size: 6\n");
+  const VoConfig c = VoConfig::load(path);
+  EXPECT_EQ(c.geometry.pnp.min_inliers, 25);
+  EXPECT_EQ(c.backend.bundle_adjustment.window_size, 6);
+  EXPECT_THROW(VoConfig::load(write_yaml("badsection", "backend:\n  bundle_adjustmnt: {}\n")), InputError);
 }
 
 TEST(VoConfig, UnknownKeyNamesItsPath) {
