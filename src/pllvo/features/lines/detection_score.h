@@ -12,9 +12,17 @@
 //    two true endpoints (the whole edge found in one piece), the distances between them.
 #include <vector>
 
+#include <opencv2/core.hpp>
+
 #include "pllvo/features/lines/line_segment.h"
 
 namespace pllvo::lines {
+
+/// One frame with ground truth (a rendered or synthetic frame).
+struct TruthFrame {
+  cv::Mat image;                   ///< CV_8UC1
+  std::vector<LineSegment> truth;  ///< true segments (visible parts), ids stable over a sequence
+};
 
 struct DetectionScoreConfig {
   double tolerance_px = 2.0;

@@ -78,4 +78,28 @@ double acute_angle(const LineSegment& a, const LineSegment& b) {
   return std::acos(std::min(1.0, c));
 }
 
+bool clip_to_rect(LineSegment& s, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
+  const Eigen::Vector2d d = s.end - s.start;
+  double t0 = 0.0, t1 = 1.0;
+  for (int k = 0; k < 2; ++k) {
+    // Inside means t * p <= q for both sides of the slab.
+    const double p[2] = {-d[k], d[k]};
+    const double q[2] = {s.start[k] - lo[k], hi[k] - s.start[k]};
+    for (int side = 0; side < 2; ++side) {
+      if (p[side] == 0.0) {
+        if (q[side] < 0.0) return false;
+      } else if (p[side] < 0.0) {
+        t0 = std::max(t0, q[side] / p[side]);
+      } else {
+        t1 = std::min(t1, q[side] / p[side]);
+      }
+    }
+  }
+  if (t0 > t1) return false;
+  const Eigen::Vector2d a = s.start + t0 * d, b = s.start + t1 * d;
+  s.start = a;
+  s.end = b;
+  return true;
+}
+
 }  // namespace pllvo::lines

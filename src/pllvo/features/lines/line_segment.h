@@ -41,5 +41,8 @@ bool segments_intersect(const LineSegment& a, const LineSegment& b);
 double segment_distance(const LineSegment& a, const LineSegment& b);
 /// Acute angle between the two undirected lines, in [0, pi/2].
 double acute_angle(const LineSegment& a, const LineSegment& b);
+/// Clips s to the axis-aligned rectangle [lo, hi] (Liang-Barsky), keeping its direction;
+/// false (s unchanged) when no part of it lies inside.
+bool clip_to_rect(LineSegment& s, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi);
 
 }  // namespace pllvo::lines

@@ -65,29 +65,6 @@ std::vector<Eigen::Vector2d> LineTracker::sample_points(const LineSegment& line)
   return pts;
 }
 
-namespace {
-// Clips s to the rectangle [lo, hi] (Liang-Barsky); false when nothing is left.
-bool clip_segment(LineSegment& s, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
-  const Eigen::Vector2d d = s.end - s.start;
-  double t0 = 0.0, t1 = 1.0;
-  for (int k = 0; k < 2; ++k) {
-    for (const auto& [p, q] : {std::pair{-d[k], s.start[k] - lo[k]}, std::pair{d[k], hi[k] - s.start[k]}}) {
-      if (p == 0.0) {
-        if (q < 0.0) return false;
-      } else if (p < 0.0) {
-        t0 = std::max(t0, q / p);
-      } else {
-        t1 = std::min(t1, q / p);
-      }
-    }
-  }
-  if (t0 >= t1) return false;
-  const Eigen::Vector2d a = s.start + t0 * d, b = s.start + t1 * d;
-  s.start = a;
-  s.end = b;
-  return true;
-}
-}  // namespace
 
 std::vector<LineTrack> LineTracker::track(const OpticalFlowPyramid& prev, const OpticalFlowPyramid& next,
                                           const std::vector<LineSegment>& lines,
@@ -152,7 +129,7 @@ std::vector<LineTrack> LineTracker::track(const OpticalFlowPyramid& prev, const 
       const Eigen::Vector2d hi(size.width - 1 - config_.border_px, size.height - 1 - config_.border_px);
       const double full = tr.line.length();
       LineSegment visible = tr.line;
-      if (!clip_segment(visible, lo, hi) || visible.length() < config_.min_visible_ratio * full) {
+      if (!clip_to_rect(visible, lo, hi) || visible.length() < config_.min_visible_ratio * full) {
         tr.status = TrackStatus::OutOfImage;
       } else {
         tr.clipped = visible.length() < full - 1e-9;

@@ -22,7 +22,7 @@ struct LineTrackerConfig {
   int window_px = 9;         ///< square LK window side
   int max_pyramid_level = 3; ///< 0 = full resolution only
   int max_iterations = 10;
-  double epsilon_px = 0.03;  ///< LK stops when an update is smaller than this
+  double epsilon_px = 0.01;  ///< LK stops when an update is smaller than this
   double min_eigen_threshold = 1e-4;  ///< cv::calcOpticalFlowPyrLK's minEigThreshold
   // Sampling along each line.
   double sample_spacing_px = 10.0;
