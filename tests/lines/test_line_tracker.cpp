@@ -133,6 +133,22 @@ TEST(LineTracker, RejectsAbnormalLines) {
   EXPECT_NE(zoomed[0].status, TrackStatus::Tracked);
 }
 
+// A motion beyond LK's capture range is tracked when a prediction seeds LK.
+TEST(LineTracker, PredictionSeedsLargeMotions) {
+  const AnalyticScene scene(6);
+  const Eigen::Isometry2d motion = rigid(0.0, V(0, 0), V(60, 35));
+  const LineTracker tracker;
+  const auto p0 = tracker.make_pyramid(scene.render(Eigen::Isometry2d::Identity()));
+  const auto p1 = tracker.make_pyramid(scene.render(motion));
+  const std::vector<LineSegment> lines = {LineSegment(V(40, 40), V(160, 80))};
+  std::vector<LineSegment> predicted = lines;
+  predicted[0].start += V(61.5, 34), predicted[0].end += V(61.5, 34);  // 1.8 px off
+  const auto tracks = tracker.track(p0, p1, lines, &predicted);
+  ASSERT_EQ(tracks[0].status, TrackStatus::Tracked);
+  EXPECT_LT((tracks[0].line.start - motion * lines[0].start).norm(), 0.1);
+  EXPECT_LT((tracks[0].line.end - motion * lines[0].end).norm(), 0.1);
+}
+
 TEST(LineTracker, SharesPyramidsAndChecksInput) {
   const LineTracker tracker;
   const cv::Mat im(120, 160, CV_8UC1, cv::Scalar(0));
@@ -146,6 +162,8 @@ TEST(LineTracker, SharesPyramidsAndChecksInput) {
   EXPECT_THROW(tracker.track(p, p, one, &none), pllvo::InputError);
   EXPECT_TRUE(tracker.track(p, p, {}).empty());
   EXPECT_THROW(OpticalFlowPyramid(cv::Mat(), cv::Size(9, 9), 2), pllvo::InputError);
+  const OpticalFlowPyramid small(im, cv::Size(5, 5), 2);  // border too narrow for a 9 px window
+  EXPECT_THROW(tracker.track(small, small, {}), pllvo::InputError);
 }
 
 // Real frames moved by a known rigid motion: detected lines tracked to a fraction of a pixel.

@@ -1,13 +1,12 @@
 #pragma once
 // EDLines line detection on top of OpenCV's ximgproc::EdgeDrawing, plus what the VO needs on top:
 //   1. pre-filtering chosen from the frame's brightness and noise (image_prefilter.h);
-//   2. sub-pixel refinement: each EDLines segment is refitted by total least squares to its own
-//      edge pixels, each pixel first moved to the gradient-magnitude peak across the edge
-//      (parabola through three gradient samples), and the endpoints are the extreme pixels
-//      projected on the fitted line;
-//   3. merging of collinear pieces (angle, perpendicular distance and gap thresholds), refitted
-//      on the union of their pixels;
-//   4. a minimum length, a minimum edge strength and an optional cap on the number of lines (longest kept).
+//   2. merging of collinear EDLines pieces (angle, perpendicular distance and gap thresholds);
+//   3. sub-pixel refinement of each merged segment long enough to be kept: the edge pixels in a
+//      band along it, each moved to the gradient-magnitude peak across the edge (parabola through
+//      three gradient samples), are fitted by total least squares, and the endpoints are the
+//      extreme pixels projected on the fitted line;
+//   4. a minimum length, a minimum edge strength and an optional cap on the number of lines.
 #include <memory>
 #include <string>
 #include <vector>
@@ -53,7 +52,7 @@ struct LineDetectorConfig {
   EdgeDrawingConfig edge_drawing;
   /// Sub-pixel refit of every segment to its edge pixels (off: EDLines' endpoints as they are).
   bool subpixel_refinement = true;
-  /// Edge pixels farther than this from the EDLines segment (px) do not support it.
+  /// Edge pixels farther than this from a segment (px) do not support it in the refinement.
   double support_distance_px = 1.5;
   /// Collinear pieces are merged when their directions differ by at most this angle...
   bool merge_collinear = true;

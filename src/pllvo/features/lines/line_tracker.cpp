@@ -71,6 +71,8 @@ std::vector<LineTrack> LineTracker::track(const OpticalFlowPyramid& prev, const 
                                           const std::vector<LineSegment>* predicted) const {
   if (prev.empty() || next.empty() || prev.image_size() != next.image_size())
     throw InputError("line tracking: the two pyramids must be built and of the same image size");
+  if (prev.window().width < config_.window_px || next.window().width < config_.window_px)
+    throw InputError("line tracking: pyramids built for a smaller window than the tracker's (use make_pyramid)");
   if (predicted && predicted->size() != lines.size())
     throw InputError("line tracking: one predicted line per line is required");
 
