@@ -7,5 +7,6 @@ namespace pllvo::cli {
 
 void add_eval_command(CLI::App& app);
 void add_info_command(CLI::App& app);
+void add_lines_eval_command(CLI::App& app);
 
 }  // namespace pllvo::cli
