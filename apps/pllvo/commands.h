@@ -7,6 +7,10 @@ namespace pllvo::cli {
 
 void add_eval_command(CLI::App& app);
 void add_info_command(CLI::App& app);
+<<<<<<< HEAD
 void add_run_command(CLI::App& app);
+=======
+void add_lines_eval_command(CLI::App& app);
+>>>>>>> main
 
 }  // namespace pllvo::cli

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
 
   pllvo::cli::add_eval_command(app);
   pllvo::cli::add_info_command(app);
+  pllvo::cli::add_lines_eval_command(app);
   pllvo::cli::add_run_command(app);
 
   try {

@@ -1,0 +1,91 @@
+#pragma once
+// Line optical-flow tracking (PLL-VO eq. 1-6): points sampled along each line of frame k are
+// tracked to frame k+1 with pyramidal Lucas-Kanade (one batched call on shared pyramids), the
+// line's rigid 2-D motion (g1, g2, g3) is fitted robustly to them (line_motion.h), and the
+// tracked line is the moved segment. The same test rejects abnormal lines: a line is kept only
+// when enough of its samples were tracked and agree with one rigid motion (share of inliers),
+// when they agree closely (normal residual), and when the samples did not stretch or shrink
+// along the line (length change), which happens when the "line" is not one physical edge.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "pllvo/common/yaml_config.h"
+#include "pllvo/features/lines/line_motion.h"
+#include "pllvo/features/lines/line_segment.h"
+#include "pllvo/features/lines/optical_flow_pyramid.h"
+
+namespace pllvo::lines {
+
+struct LineTrackerConfig {
+  // Pyramidal Lucas-Kanade.
+  int window_px = 9;         ///< square LK window side
+  int max_pyramid_level = 3; ///< 0 = full resolution only
+  int max_iterations = 10;
+  double epsilon_px = 0.01;  ///< LK stops when an update is smaller than this
+  double min_eigen_threshold = 1e-4;  ///< cv::calcOpticalFlowPyrLK's minEigThreshold
+  // Sampling along each line.
+  double sample_spacing_px = 10.0;
+  int min_samples = 5;   ///< short lines still get this many samples
+  int max_samples = 12;  ///< long lines get at most this many (evenly spread)
+  double end_margin_px = 2.0;  ///< samples stay this far inside the endpoints (corners move oddly)
+  // Robust fit and acceptance.
+  LineMotionFitConfig fit;
+  double min_inlier_ratio = 0.7;   ///< inlier samples / samples
+  double max_residual_px = 0.6;    ///< RMS normal residual of the inliers
+  double max_length_change = 0.1;  ///< |stretch - 1|, see LineMotionFit::stretch
+  /// The moved segment is clipped to the image shrunk by border_px; a line is lost when less
+  /// than min_visible_ratio of its length stays inside.
+  double border_px = 1.0;
+  double min_visible_ratio = 0.5;
+
+  void load(const ConfigNode& node);
+};
+
+enum class TrackStatus : uint8_t {
+  Tracked,        ///< kept
+  FewInliers,     ///< too few samples tracked by LK or consistent with one rigid motion
+  LargeResidual,  ///< the inlier samples do not lie on one moved line
+  LengthChange,   ///< the samples stretched or shrank along the line
+  OutOfImage,     ///< less than min_visible_ratio of the moved segment stays in the image
+};
+const char* to_string(TrackStatus s);
+
+struct LineTrack {
+  LineSegment line;  ///< the moved segment in frame k+1 (id and response kept from frame k)
+  bool clipped = false;  ///< `line` was cut at the image border
+  LineMotion motion;
+  TrackStatus status = TrackStatus::FewInliers;
+  int samples = 0;
+  int inliers = 0;
+  double rms_normal_px = 0.0;
+  double stretch = 1.0;
+};
+
+class LineTracker {
+ public:
+  explicit LineTracker(LineTrackerConfig config = {});
+
+  /// A pyramid of `gray` matching this tracker's window and levels (build once per frame).
+  OpticalFlowPyramid make_pyramid(const cv::Mat& gray) const;
+
+  /// Tracks `lines` from frame k (`prev`) to frame k+1 (`next`): one LineTrack per line, in
+  /// order. `predicted`, when given (same size as `lines`), is each line's expected position in
+  /// frame k+1 (e.g. from a motion prior) and seeds LK; otherwise LK starts at zero motion.
+  std::vector<LineTrack> track(const OpticalFlowPyramid& prev, const OpticalFlowPyramid& next,
+                               const std::vector<LineSegment>& lines,
+                               const std::vector<LineSegment>* predicted = nullptr) const;
+
+  /// Sample points of a line, as used by track().
+  std::vector<Eigen::Vector2d> sample_points(const LineSegment& line) const;
+
+  const LineTrackerConfig& config() const { return config_; }
+
+ private:
+  LineTrackerConfig config_;
+};
+
+/// The moved segments of the tracks with status Tracked (abnormal lines dropped).
+std::vector<LineSegment> tracked_lines(const std::vector<LineTrack>& tracks);
+
+}  // namespace pllvo::lines

@@ -1,0 +1,32 @@
+#pragma once
+// An image pyramid for pyramidal Lucas-Kanade (cv::buildOpticalFlowPyramid, with derivatives),
+// built once per frame and shared by every tracker that uses it: frame k+1's pyramid is the
+// "next" pyramid now and becomes the "prev" pyramid at the following frame, so each frame's
+// pyramid and derivatives are computed exactly once.
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace pllvo::lines {
+
+class OpticalFlowPyramid {
+ public:
+  OpticalFlowPyramid() = default;
+  /// `window`: the LK window it will serve (sets the border padding); `max_level`: 0 = only
+  /// the full-resolution image. Throws InputError for an empty or non-8-bit-gray image.
+  OpticalFlowPyramid(const cv::Mat& gray, cv::Size window, int max_level);
+
+  bool empty() const { return levels_.empty(); }
+  const std::vector<cv::Mat>& levels() const { return levels_; }
+  cv::Size window() const { return window_; }
+  int max_level() const { return max_level_; }
+  cv::Size image_size() const { return size_; }
+
+ private:
+  std::vector<cv::Mat> levels_;
+  cv::Size window_;
+  int max_level_ = 0;
+  cv::Size size_;
+};
+
+}  // namespace pllvo::lines
