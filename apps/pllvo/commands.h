@@ -7,10 +7,7 @@ namespace pllvo::cli {
 
 void add_eval_command(CLI::App& app);
 void add_info_command(CLI::App& app);
-<<<<<<< HEAD
-void add_run_command(CLI::App& app);
-=======
 void add_lines_eval_command(CLI::App& app);
->>>>>>> main
+void add_run_command(CLI::App& app);
 
 }  // namespace pllvo::cli
