@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 
 #include <spdlog/spdlog.h>
@@ -10,6 +11,34 @@ namespace pllvo::vo {
 namespace {
 
 Eigen::Vector2d to_eigen(const cv::Point2f& p) { return {p.x, p.y}; }
+
+/// Pixel pairs of the same points in the previous keyframe and this one, for line
+/// association: shared map points, candidates tracked from it, and descriptor matches.
+std::vector<lines::PointMatch> point_matches_with(const Keyframe& prev, bool has_prev, const PointFeatures& features,
+                                                  const std::vector<Id>& ids, const std::vector<Observation>& previous,
+                                                  const std::vector<PointMatch>& matches) {
+  std::vector<lines::PointMatch> out;
+  if (!has_prev) return out;
+  std::map<Id, int> index_of;
+  for (size_t a = 0; a < prev.point_ids.size(); ++a)
+    if (prev.point_ids[a] != kNoId) index_of[prev.point_ids[a]] = static_cast<int>(a);
+  std::vector<char> paired(features.size(), 0);
+  for (size_t b = 0; b < features.size(); ++b) {
+    int a = -1;
+    if (ids[b] != kNoId) {
+      auto it = index_of.find(ids[b]);
+      if (it != index_of.end()) a = it->second;
+    } else if (previous[b].keyframe == prev.id) {
+      a = previous[b].index;
+    }
+    if (a < 0) continue;
+    out.push_back({to_eigen(prev.features.points[a]), to_eigen(features.points[b])});
+    paired[b] = 1;
+  }
+  for (const auto& mt : matches)
+    if (!paired[mt.b]) out.push_back({to_eigen(prev.features.points[mt.a]), to_eigen(features.points[mt.b])});
+  return out;
+}
 
 }  // namespace
 
@@ -24,6 +53,8 @@ KeyframeProcessor::KeyframeProcessor(const VoConfig& config, const Pinhole& came
       matcher_(make_keyframe_matcher(config.mapping, config.frontend.type)),
       frontend_name_(frontend_->name()),
       stereo_tracker_(config.klt) {
+  if (config_.mapping.use_lines)
+    line_mapper_ = std::make_unique<LineMapper>(config_.lines, config_.geometry.line_triangulation, camera_);
   // A monocular map has a free scale as well: two fixed keyframes pin it.
   if (baseline_ <= 0)
     config_.backend.bundle_adjustment.num_fixed_oldest = std::max(2, config_.backend.bundle_adjustment.num_fixed_oldest);
@@ -61,8 +92,29 @@ std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::stereo_points(con
   return out;
 }
 
-KeyframeResult KeyframeProcessor::process(const KeyframeJob& job) {
+geometry::Pose KeyframeProcessor::current_pose(const KeyframeJob& job) {
+  // The tracker estimated the pose against the map as it was then; the bundle adjustments
+  // that ran since moved points and keyframes. Triangulating against the refreshed map keeps
+  // new points consistent with it (otherwise the scale of a monocular map drifts).
+  if (job.first) return job.T_world_cam;
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<Eigen::Vector2d> px;
+  map_.read([&](const MapData& m) {
+    for (const auto& t : job.tracks) {
+      auto it = m.points.find(t.point);
+      if (it == m.points.end()) continue;
+      pts.push_back(it->second.position);
+      px.push_back(to_eigen(t.px));
+    }
+  });
+  const PoseEstimate e = estimate_pose(camera_, pts, px, {}, job.T_world_cam, config_.geometry, config_.backend);
+  return e.ok ? e.T_world_cam : job.T_world_cam;
+}
+
+KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job) {
   ScopedTimer total(stats_, "kf_total");
+  KeyframeJob job = original_job;
+  job.T_world_cam = current_pose(original_job);
   KeyframeResult result;
   result.frame_index = job.frame_index;
   PointFeatures features;
@@ -90,11 +142,12 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& job) {
   }
 
   const bool has_prev = !job.first && !segment_keyframes_.empty();
+  Keyframe prev;
+  std::vector<PointMatch> matches;
   if (has_prev) {
     ScopedTimer t(stats_, "kf_match");
-    Keyframe prev;
     map_.read([&](const MapData& m) { prev = m.keyframes.at(segment_keyframes_.back()); });
-    const auto matches = matcher_->match(prev.features, features, job.left.size());
+    matches = matcher_->match(prev.features, features, job.left.size());
     result.matches = static_cast<int>(matches.size());
     std::set<Id> used(ids.begin(), ids.end());
     for (const auto& mt : matches) {
@@ -165,10 +218,21 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& job) {
     if (made < config_.init.stereo_min_points) return result;
   }
 
+  LinePlan line_plan;
+  if (line_mapper_) {
+    ScopedTimer t(stats_, "kf_lines");
+    line_plan = line_mapper_->plan(job.left, job.T_world_cam, job.lines, has_prev ? &prev : nullptr,
+                                   point_matches_with(prev, has_prev, features, ids, previous, matches), map_);
+    stats_.add_sample("kf_lines", static_cast<double>(line_plan.segments.size()));
+  }
+
   Id kid = kNoId;
   int new_points = 0;
   map_.write([&](MapData& m) {
     Keyframe kf;
+    for (const auto& l : line_plan.segments) kf.lines.push_back(to_segment2d(l));
+    kf.line_origins = line_plan.origins;
+    kf.line_descriptors = line_plan.descriptors;
     kf.frame_index = job.frame_index;
     kf.timestamp = job.timestamp;
     kf.T_world_cam = job.T_world_cam;
@@ -201,6 +265,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& job) {
         ++new_points;
       }
     }
+    result.created_lines = LineMapper::commit(m, kid, line_plan);
   });
   segment_keyframes_.push_back(kid);
   result.ok = true;
@@ -229,7 +294,11 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& job) {
     const auto& kf = m.keyframes.at(kid);
     for (size_t i = 0; i < kf.point_ids.size(); ++i)
       result.tracks.push_back({kf.features.points[i], kf.point_ids[i], kf.origins[i], {kid, static_cast<int>(i)}});
+    for (size_t j = 0; j < kf.lines.size(); ++j)
+      result.lines.push_back({to_line_segment(kf.lines[j], static_cast<int>(j)), kf.line_ids[j], kf.line_origins[j],
+                              {kid, static_cast<int>(j)}});
   });
+  stats_.add_sample("kf_new_lines", result.created_lines);
   spdlog::debug("keyframe {} (frame {}, {}): {} features, {} matches, {} new points, {} tracked", kid,
                 job.frame_index, to_string(job.reason), n, result.matches, new_points, result.tracks.size());
   return result;
@@ -239,6 +308,14 @@ KeyframeResult KeyframeProcessor::initialize_mono(const KeyframeJob& reference, 
                                                   const std::vector<std::optional<Eigen::Vector3d>>& ref_points_world,
                                                   KeyframeJob second, const std::vector<cv::Point2f>& second_px) {
   second.tracks.clear();
+  std::vector<lines::LineSegment> ref_lines;
+  cv::Mat ref_line_descriptors;
+  if (line_mapper_) {
+    ScopedTimer t(stats_, "kf_lines");
+    ref_lines = line_mapper_->detect(reference.left);
+    if (config_.lines.associator.use_descriptors && !ref_lines.empty())
+      ref_line_descriptors = lines::compute_lbd_descriptors(reference.left, ref_lines);
+  }
   Id kid = kNoId;
   map_.write([&](MapData& m) {
     Keyframe kf;
@@ -248,6 +325,8 @@ KeyframeResult KeyframeProcessor::initialize_mono(const KeyframeJob& reference, 
     kf.reason = KeyframeReason::kInitialization;
     kf.segment = segment_;
     kf.features = ref_features;
+    for (const auto& l : ref_lines) kf.lines.push_back(to_segment2d(l));
+    kf.line_descriptors = ref_line_descriptors;
     kid = m.add_keyframe(std::move(kf));
     for (size_t i = 0; i < ref_features.size(); ++i) {
       if (i >= second_px.size() || std::isnan(second_px[i].x)) continue;

@@ -9,6 +9,7 @@
 
 #include "pllvo/vo/geometry_adapter.h"
 #include "pllvo/vo/keyframe_matcher.h"
+#include "pllvo/vo/line_mapper.h"
 #include "pllvo/vo/map.h"
 #include "pllvo/vo/point_frontend.h"
 #include "pllvo/vo/point_tracker.h"
@@ -34,6 +35,7 @@ struct KeyframeJob {
   geometry::Pose T_world_cam = geometry::Pose::Identity();
   KeyframeReason reason = KeyframeReason::kNone;
   std::vector<TrackedPoint> tracks;  ///< KLT tracks in this frame (map points and candidates)
+  std::vector<TrackedLine> lines;    ///< lines tracked into this frame
   bool first = false;                ///< first keyframe of a map segment (stereo initialisation)
 };
 
@@ -42,8 +44,15 @@ struct KeyframeResult {
   Id keyframe = kNoId;
   size_t frame_index = 0;
   std::vector<TrackedPoint> tracks;  ///< the keyframe's points: map points and candidates
+  std::vector<TrackedLine> lines;    ///< the keyframe's lines: map lines and candidates
+  /// Filled by the odometry before the result reaches the tracker: the keyframe's points and
+  /// lines that the tracker does not follow yet, positioned in frame `followed_frame`.
+  std::vector<TrackedPoint> new_tracks;
+  std::vector<TrackedLine> new_lines;
+  size_t followed_frame = 0;
   int matches = 0;                   ///< descriptor matches with the previous keyframe
   int new_points = 0;
+  int created_lines = 0;
 };
 
 class KeyframeProcessor {
@@ -70,6 +79,7 @@ class KeyframeProcessor {
   const std::string& frontend_name() const { return frontend_name_; }
 
  private:
+  geometry::Pose current_pose(const KeyframeJob& job);
   std::vector<std::optional<Eigen::Vector3d>> stereo_points(const KeyframeJob& job, const PointFeatures& features,
                                                             const std::vector<Id>& ids);
 
@@ -82,6 +92,7 @@ class KeyframeProcessor {
   std::unique_ptr<KeyframeMatcher> matcher_;
   std::string frontend_name_;
   PointTracker stereo_tracker_;
+  std::unique_ptr<LineMapper> line_mapper_;  ///< null when lines are off
   int segment_ = 0;
   std::vector<Id> segment_keyframes_;  ///< keyframes of the current segment, oldest first
 };

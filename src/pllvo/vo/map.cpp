@@ -10,6 +10,9 @@ Id MapData::add_keyframe(Keyframe kf) {
   kf.id = next_id++;
   kf.point_ids.resize(kf.features.size(), kNoId);
   kf.line_ids.resize(kf.lines.size(), kNoId);
+  kf.line_origins.resize(kf.lines.size());
+  for (size_t i = 0; i < kf.line_origins.size(); ++i)
+    if (kf.line_origins[i].keyframe == kNoId) kf.line_origins[i] = {kf.id, static_cast<int>(i)};
   kf.origins.resize(kf.features.size());
   for (size_t i = 0; i < kf.origins.size(); ++i)
     if (kf.origins[i].keyframe == kNoId) kf.origins[i] = {kf.id, static_cast<int>(i)};

@@ -42,6 +42,8 @@ struct Keyframe {
   std::vector<Observation> origins;
   std::vector<Segment2d> lines;    ///< detected line segments (left image)
   std::vector<Id> line_ids;        ///< per line: its map line, or kNoId
+  std::vector<Observation> line_origins;  ///< per line without a map line: its first keyframe observation
+  cv::Mat line_descriptors;        ///< LBD, one row per line (empty when not computed)
 };
 
 struct MapPoint {

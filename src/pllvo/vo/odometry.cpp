@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include <spdlog/spdlog.h>
 
@@ -37,6 +38,8 @@ Odometry::Odometry(const VoConfig& config, const io::Calibration& calibration, b
       rectifier_(calibration, use_stereo && calibration.stereo()),
       camera_(rectifier_.camera()),
       tracker_(config.klt),
+      use_lines_(config.mapping.use_lines),
+      line_tracker_(config.lines.tracker),
       policy_(config.keyframes),
       processor_(config, camera_, rectifier_.baseline(), map_, stats),
       worker_(config.run.threaded) {
@@ -62,7 +65,15 @@ FrameRecord Odometry::process(const io::Frame& frame) {
   ImagePyramid pyramid;
   {
     ScopedTimer t(stats_, "pyramid");
-    pyramid = tracker_.build_pyramid(left);
+    pyramid = use_lines_ ? tracker_.build_pyramid(left, config_.lines.tracker.window_px,
+                                                  config_.lines.tracker.max_pyramid_level)
+                         : tracker_.build_pyramid(left);
+  }
+  if (config_.run.wait_when_starving && state_ == TrackingState::kTracking && !worker_.idle() &&
+      count_mapped(tracks_) < config_.keyframes.min_tracked_points) {
+    ScopedTimer t(stats_, "starved_wait");
+    worker_.wait_idle();
+    stats_.add_count("starved_waits");
   }
   worker_.rethrow_if_failed();
   apply_keyframe_results();
@@ -73,10 +84,7 @@ FrameRecord Odometry::process(const io::Frame& frame) {
   else
     tracked = initialize(frame, left, right, pyramid);
 
-  if (!pending_keyframe_frames_.empty()) {
-    pyramid_buffer_.emplace_back(frame.index, pyramid);
-    while (pyramid_buffer_.size() > kMaxBufferedPyramids) pyramid_buffer_.pop_front();
-  }
+  if (!pending_keyframe_frames_.empty()) pyramid_buffer_.push(frame.index, pyramid, kMaxBufferedPyramids);
   previous_pyramid_ = pyramid;
   previous_index_ = frame.index;
 
@@ -89,6 +97,7 @@ FrameRecord Odometry::process(const io::Frame& frame) {
   stats_.add_count("frames");
   if (tracked) stats_.add_count("tracked_frames");
   stats_.add_sample("tracked_points", record.tracked_points);
+  stats_.add_sample("tracked_lines", record.tracked_lines);
   records_.push_back(record);
   return record;
 }
@@ -248,6 +257,8 @@ void Odometry::localize_init_frames(const MonoReference& ref,
 void Odometry::start_tracking(const KeyframeResult& result, double timestamp) {
   state_ = TrackingState::kTracking;
   tracks_ = result.tracks;
+  line_tracks_ = result.lines;
+  set_reference_lines(line_tracks_);
   has_velocity_ = false;
   velocity_ = geometry::Pose::Identity();
   lost_frames_ = 0;
@@ -285,6 +296,44 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     tr = tracker_.track(previous_pyramid_, pyramid, from, &predicted);
   }
 
+  // Lines: predicted from their 3-D segment when they have one, followed by line optical flow.
+  std::vector<LineMeasurement> line_measurements;
+  std::vector<size_t> measured_lines;  // index in line_tracks_ per measurement
+  if (use_lines_ && !line_tracks_.empty()) {
+    ScopedTimer t(stats_, "line_tracking");
+    std::vector<lines::LineSegment> predicted_lines;
+    std::vector<std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>> ends(line_tracks_.size());
+    map_.read([&](const MapData& m) {
+      for (size_t i = 0; i < line_tracks_.size(); ++i) {
+        auto it = m.lines.find(line_tracks_[i].line);
+        if (it != m.lines.end()) ends[i] = std::make_pair(it->second.p, it->second.q);
+      }
+    });
+    for (size_t i = 0; i < line_tracks_.size(); ++i) {
+      lines::LineSegment p = line_tracks_[i].segment;
+      Eigen::Vector2d a, b;
+      if (ends[i] && camera_.project(T_pred_world * ends[i]->first, a) &&
+          camera_.project(T_pred_world * ends[i]->second, b) && camera_.inside(a) && camera_.inside(b)) {
+        // The tracked segment's extent, moved onto the predicted image line.
+        const lines::LineSegment image_line(a, b);
+        const double sa = lines::project_along(p.start, image_line), sb = lines::project_along(p.end, image_line);
+        if (image_line.length() > 1) p.start = image_line.at(sa / image_line.length()), p.end = image_line.at(sb / image_line.length());
+      }
+      predicted_lines.push_back(p);
+    }
+    line_tracks_ = track_lines(previous_pyramid_, pyramid, line_tracks_, &predicted_lines);
+    if (config_.pose.use_lines) {
+      map_.read([&](const MapData& m) {
+        for (size_t i = 0; i < line_tracks_.size(); ++i) {
+          auto it = m.lines.find(line_tracks_[i].line);
+          if (it == m.lines.end()) continue;
+          line_measurements.push_back({it->second.p, it->second.q, to_segment2d(line_tracks_[i].segment)});
+          measured_lines.push_back(i);
+        }
+      });
+    }
+  }
+
   std::vector<size_t> which;
   std::vector<Eigen::Vector3d> pts;
   std::vector<Eigen::Vector2d> px;
@@ -300,7 +349,7 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     ScopedTimer t(stats_, "pose");
     std::optional<geometry::Pose> predicted;
     if (config_.pose.use_motion_prior && has_velocity_) predicted = T_world_pred;
-    estimate = estimate_pose(camera_, pts, px, {}, predicted, config_.geometry, config_.backend);
+    estimate = estimate_pose(camera_, pts, px, line_measurements, predicted, config_.geometry, config_.backend);
   }
 
   // Keep the tracks that survived KLT (and, on success, the pose's inlier test); candidates
@@ -319,6 +368,16 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     kept.push_back(tp);
   }
   tracks_ = std::move(kept);
+  if (estimate.ok) {
+    // Lines whose 3-D segment disagrees with the pose lose the link (their track may be off).
+    std::vector<char> drop(line_tracks_.size(), 0);
+    for (size_t k = 0; k < measured_lines.size(); ++k)
+      if (!estimate.line_inliers[k]) drop[measured_lines[k]] = 1;
+    std::vector<TrackedLine> kept_lines;
+    for (size_t i = 0; i < line_tracks_.size(); ++i)
+      if (!drop[i]) kept_lines.push_back(line_tracks_[i]);
+    line_tracks_ = std::move(kept_lines);
+  }
   spdlog::debug("frame {}: {} map points followed, {} pose inliers, {} tracks kept", frame.index, pts.size(),
                 estimate.ok ? estimate.num_point_inliers : 0, tracks_.size());
 
@@ -347,6 +406,7 @@ void Odometry::maybe_make_keyframe(const io::Frame& frame, const cv::Mat& left, 
   state.timestamp = frame.timestamp;
   state.tracked_points = tracked_points;
   state.backend_idle = worker_.idle();
+  state.line_angle_distance_deg = line_angle_distance();
   const KeyframeReason reason = policy_.decide(state);
   if (reason == KeyframeReason::kNone) return;
   if (worker_.pending() >= kMaxPendingKeyframes) {
@@ -362,6 +422,7 @@ void Odometry::maybe_make_keyframe(const io::Frame& frame, const cv::Mat& left, 
   job.T_world_cam = T_world_work_;
   job.reason = reason;
   job.tracks = tracks_;
+  job.lines = line_tracks_;
   policy_.start_keyframe(frame.timestamp, tracked_points);
   submit_keyframe(std::move(job));
 }
@@ -370,9 +431,101 @@ void Odometry::submit_keyframe(KeyframeJob job) {
   pending_keyframe_frames_.insert(job.frame_index);
   worker_.submit([this, job = std::move(job)] {
     KeyframeResult result = processor_.process(job);
+    if (result.ok) {
+      ScopedTimer t(stats_, "kf_catch_up");
+      prepare_result(job, result);
+    }
     std::lock_guard<std::mutex> lock(results_mutex_);
     results_.push_back(std::move(result));
   });
+}
+
+namespace {
+
+/// Index of tracks by identity: map landmark id, else the first keyframe observation.
+template <typename Track, typename IdOf>
+std::map<std::pair<Id, int>, size_t> index_by_identity(const std::vector<Track>& tracks, IdOf id_of) {
+  std::map<std::pair<Id, int>, size_t> index;
+  for (size_t i = 0; i < tracks.size(); ++i) {
+    const Id id = id_of(tracks[i]);
+    if (id != kNoId)
+      index[{id, -1}] = i;
+    else if (tracks[i].origin.keyframe != kNoId)
+      index[{tracks[i].origin.keyframe, tracks[i].origin.index}] = i;
+  }
+  return index;
+}
+
+template <typename Track, typename IdOf>
+std::optional<size_t> find_identity(const std::map<std::pair<Id, int>, size_t>& index, const Track& t, IdOf id_of) {
+  const Id id = id_of(t);
+  if (id != kNoId) {
+    auto it = index.find({id, -1});
+    if (it != index.end()) return it->second;
+  }
+  // A candidate that became a landmark on this keyframe is still known by its origin.
+  auto it = index.find({t.origin.keyframe, t.origin.index});
+  if (t.origin.keyframe != kNoId && it != index.end()) return it->second;
+  return std::nullopt;
+}
+
+}  // namespace
+
+void Odometry::PyramidBuffer::push(size_t frame_index, const ImagePyramid& pyramid, size_t capacity) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  frames_.emplace_back(frame_index, pyramid);
+  while (frames_.size() > capacity) frames_.pop_front();
+}
+
+std::vector<std::pair<size_t, ImagePyramid>> Odometry::PyramidBuffer::from(size_t first) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<std::pair<size_t, ImagePyramid>> out;
+  for (const auto& f : frames_)
+    if (f.first >= first) out.push_back(f);
+  return out;
+}
+
+void Odometry::PyramidBuffer::drop_before(size_t frame_index) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  while (!frames_.empty() && frames_.front().first < frame_index) frames_.pop_front();
+}
+
+void Odometry::PyramidBuffer::clear() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  frames_.clear();
+}
+
+void Odometry::follow(const std::vector<std::pair<size_t, ImagePyramid>>& frames, std::vector<TrackedPoint>& points,
+                      std::vector<TrackedLine>& lines) const {
+  for (size_t k = 1; k < frames.size(); ++k) {
+    const ImagePyramid& from = frames[k - 1].second;
+    const ImagePyramid& to = frames[k].second;
+    if (!points.empty()) {
+      std::vector<cv::Point2f> pts;
+      for (const auto& p : points) pts.push_back(p.px);
+      const TrackResult tr = tracker_.track(from, to, pts);
+      std::vector<TrackedPoint> next;
+      for (size_t i = 0; i < points.size(); ++i)
+        if (tr.ok[i]) next.push_back({tr.points[i], points[i].point, points[i].origin, points[i].last});
+      points = std::move(next);
+    }
+    if (use_lines_) lines = track_lines(from, to, lines);
+  }
+}
+
+void Odometry::prepare_result(const KeyframeJob& job, KeyframeResult& result) const {
+  auto point_id = [](const TrackedPoint& p) { return p.point; };
+  auto line_id = [](const TrackedLine& l) { return l.line; };
+  const auto point_index = index_by_identity(job.tracks, point_id);
+  const auto line_index = index_by_identity(job.lines, line_id);
+  for (const auto& r : result.tracks)
+    if (!find_identity(point_index, r, point_id)) result.new_tracks.push_back(r);
+  for (const auto& r : result.lines)
+    if (!find_identity(line_index, r, line_id)) result.new_lines.push_back(r);
+  std::vector<std::pair<size_t, ImagePyramid>> frames = {{job.frame_index, job.left_pyramid}};
+  for (auto& f : pyramid_buffer_.from(job.frame_index + 1)) frames.push_back(std::move(f));
+  follow(frames, result.new_tracks, result.new_lines);
+  result.followed_frame = frames.back().first;
 }
 
 void Odometry::apply_keyframe_results() {
@@ -385,52 +538,97 @@ void Odometry::apply_keyframe_results() {
     pending_keyframe_frames_.erase(result.frame_index);
     if (!result.ok || state_ != TrackingState::kTracking) continue;
     ScopedTimer t(stats_, "catch_up");
-    std::vector<TrackedPoint> fresh = std::move(result.tracks);
-    // Follow the keyframe's points through the frames that passed while it was processed.
-    const ImagePyramid* from = nullptr;
-    for (const auto& [index, pyr] : pyramid_buffer_) {
-      if (index < result.frame_index) continue;
-      if (index == result.frame_index) {
-        from = &pyr;
-        continue;
-      }
-      if (!from) break;
-      std::vector<cv::Point2f> pts;
-      for (const auto& f : fresh) pts.push_back(f.px);
-      const TrackResult tr = tracker_.track(*from, pyr, pts);
-      std::vector<TrackedPoint> next;
-      for (size_t i = 0; i < fresh.size(); ++i)
-        if (tr.ok[i]) next.push_back({tr.points[i], fresh[i].point, fresh[i].origin, fresh[i].last});
-      fresh = std::move(next);
-      from = &pyr;
+
+    // Points and lines the tracker already follows keep their current position and take the
+    // keyframe's identity; the new ones come positioned by the worker and are followed over
+    // the last few frames.
+    auto point_id = [](const TrackedPoint& p) { return p.point; };
+    auto line_id = [](const TrackedLine& l) { return l.line; };
+    const auto point_index = index_by_identity(tracks_, point_id);
+    const auto line_index = index_by_identity(line_tracks_, line_id);
+    std::vector<TrackedPoint> merged;
+    std::vector<char> point_taken(tracks_.size(), 0);
+    for (const auto& r : result.tracks) {
+      const auto i = find_identity(point_index, r, point_id);
+      if (!i || point_taken[*i]) continue;
+      point_taken[*i] = 1;
+      merged.push_back({tracks_[*i].px, r.point, r.origin, r.last});
     }
-    if (!from) continue;  // the keyframe's pyramid is gone: keep the current tracks
-    // Merge: the keyframe's points first, then current tracks of other map points that are
-    // not too close to one of them (they keep tracking alive between keyframes).
-    std::set<Id> present;
-    for (const auto& f : fresh) present.insert(f.point);
-    const float min_d2 = static_cast<float>(config_.frontend.min_distance_px * config_.frontend.min_distance_px) / 4;
-    for (const auto& old : tracks_) {
-      if (old.point == kNoId || present.count(old.point)) continue;
-      bool close = false;
-      for (const auto& f : fresh) {
-        const cv::Point2f d = f.px - old.px;
-        if (d.dot(d) < min_d2) {
-          close = true;
-          break;
-        }
-      }
-      if (!close) fresh.push_back(old), present.insert(old.point);
+    std::vector<TrackedLine> merged_lines;
+    std::vector<char> line_taken(line_tracks_.size(), 0);
+    for (const auto& r : result.lines) {
+      const auto i = find_identity(line_index, r, line_id);
+      if (!i || line_taken[*i]) continue;
+      line_taken[*i] = 1;
+      TrackedLine l = r;
+      l.segment = line_tracks_[*i].segment;
+      merged_lines.push_back(l);
     }
-    tracks_ = std::move(fresh);
+    std::vector<TrackedPoint> new_points = result.new_tracks;
+    std::vector<TrackedLine> new_lines = result.new_lines;
+    if (result.followed_frame < previous_index_) {
+      std::vector<std::pair<size_t, ImagePyramid>> frames;
+      for (auto& f : pyramid_buffer_.from(result.followed_frame))
+        if (f.first <= previous_index_) frames.push_back(std::move(f));
+      if (frames.empty() || frames.front().first != result.followed_frame) {
+        new_points.clear();  // its pyramid is gone: cannot be brought up to date
+        new_lines.clear();
+      } else {
+        follow(frames, new_points, new_lines);
+      }
+    }
+    merged.insert(merged.end(), new_points.begin(), new_points.end());
+    merged_lines.insert(merged_lines.end(), new_lines.begin(), new_lines.end());
+    // Current tracks of map points the keyframe did not keep still help the pose.
+    for (size_t i = 0; i < tracks_.size(); ++i)
+      if (!point_taken[i] && tracks_[i].point != kNoId) merged.push_back(tracks_[i]);
+    for (size_t i = 0; i < line_tracks_.size(); ++i)
+      if (!line_taken[i] && line_tracks_[i].line != kNoId) merged_lines.push_back(line_tracks_[i]);
+    tracks_ = std::move(merged);
     policy_.set_reference_points(count_mapped(tracks_));
+    if (use_lines_) {
+      line_tracks_ = std::move(merged_lines);
+      set_reference_lines(result.lines);
+    }
   }
-  if (pending_keyframe_frames_.empty()) {
+  if (pending_keyframe_frames_.empty())
     pyramid_buffer_.clear();
-  } else {
-    const size_t oldest = *pending_keyframe_frames_.begin();
-    while (!pyramid_buffer_.empty() && pyramid_buffer_.front().first < oldest) pyramid_buffer_.pop_front();
+  else
+    pyramid_buffer_.drop_before(*pending_keyframe_frames_.begin());
+}
+
+std::vector<TrackedLine> Odometry::track_lines(const ImagePyramid& from, const ImagePyramid& to,
+                                               const std::vector<TrackedLine>& lines,
+                                               const std::vector<lines::LineSegment>* predicted) const {
+  if (lines.empty()) return {};
+  std::vector<lines::LineSegment> segments;
+  segments.reserve(lines.size());
+  for (const auto& l : lines) segments.push_back(l.segment);
+  const auto tracks = line_tracker_.track(from.flow, to.flow, segments, predicted);
+  std::vector<TrackedLine> kept;
+  for (size_t i = 0; i < tracks.size(); ++i) {
+    if (tracks[i].status != lines::TrackStatus::Tracked) continue;
+    TrackedLine l = lines[i];
+    l.segment = tracks[i].line;
+    kept.push_back(l);
   }
+  return kept;
+}
+
+void Odometry::set_reference_lines(const std::vector<TrackedLine>& lines) {
+  std::vector<lines::LineSegment> segments;
+  for (const auto& l : lines) segments.push_back(l.segment);
+  reference_angles_ = lines::overlap_angle_set(segments, config_.lines.overlap_angles);
+}
+
+std::optional<double> Odometry::line_angle_distance() const {
+  if (!use_lines_) return std::nullopt;
+  std::vector<lines::LineSegment> segments;
+  for (const auto& l : line_tracks_) segments.push_back(l.segment);
+  const auto current = lines::overlap_angle_set(segments, config_.lines.overlap_angles);
+  const size_t min_angles = static_cast<size_t>(config_.keyframes.line_min_angles);
+  if (current.size() < min_angles || reference_angles_.size() < min_angles) return std::nullopt;
+  return lines::overlap_angle_distance(reference_angles_, current);
 }
 
 // ---------------------------------------------------------------- failure
@@ -452,6 +650,8 @@ void Odometry::reset() {
   pending_keyframe_frames_.clear();
   pyramid_buffer_.clear();
   tracks_.clear();
+  line_tracks_.clear();
+  reference_angles_ = {};
   mono_.reset();
   state_ = TrackingState::kUninitialized;
   has_velocity_ = false;

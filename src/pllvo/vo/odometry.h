@@ -8,6 +8,8 @@
 #include <set>
 #include <vector>
 
+#include "pllvo/features/lines/line_tracker.h"
+#include "pllvo/features/lines/overlap_angles.h"
 #include "pllvo/io/sequence.h"
 #include "pllvo/vo/frame_rectifier.h"
 #include "pllvo/vo/keyframe_policy.h"
@@ -70,10 +72,24 @@ class Odometry {
                            const ImagePyramid& pyramid, int tracked_points);
   void submit_keyframe(KeyframeJob job);
   void apply_keyframe_results();
+  /// Follows points and lines through `frames` (consecutive, starting with the frame they are
+  /// in); drops what gets lost. Safe on the worker thread.
+  void follow(const std::vector<std::pair<size_t, ImagePyramid>>& frames, std::vector<TrackedPoint>& points,
+              std::vector<TrackedLine>& lines) const;
+  /// On the worker: splits a finished keyframe's points and lines into those the tracker
+  /// already follows (same identity as in `job`) and new ones, and brings the new ones up to
+  /// the newest buffered frame.
+  void prepare_result(const KeyframeJob& job, KeyframeResult& result) const;
   void start_tracking(const KeyframeResult& result, double timestamp);
   /// Poses of the frames seen during monocular initialisation, by PnP on the new map.
   void localize_init_frames(const MonoReference& ref, const std::vector<std::optional<Eigen::Vector3d>>& points,
                             const geometry::Pose& T_world_ref);
+  /// Follows `lines` from one pyramid to the next; drops those the tracker rejects.
+  std::vector<TrackedLine> track_lines(const ImagePyramid& from, const ImagePyramid& to,
+                                       const std::vector<TrackedLine>& lines,
+                                       const std::vector<lines::LineSegment>* predicted = nullptr) const;
+  void set_reference_lines(const std::vector<TrackedLine>& lines);
+  std::optional<double> line_angle_distance() const;
   void handle_lost();
   void reset();
   geometry::Pose to_output(const geometry::Pose& T_world_work) const;
@@ -83,6 +99,8 @@ class Odometry {
   FrameRectifier rectifier_;
   Pinhole camera_;
   PointTracker tracker_;
+  bool use_lines_;
+  lines::LineTracker line_tracker_;
   KeyframePolicy policy_;
   Map map_;
   KeyframeProcessor processor_;
@@ -90,6 +108,8 @@ class Odometry {
 
   TrackingState state_ = TrackingState::kUninitialized;
   std::vector<TrackedPoint> tracks_;
+  std::vector<TrackedLine> line_tracks_;
+  lines::OverlapAngleSet reference_angles_;  ///< of the current keyframe's lines
   ImagePyramid previous_pyramid_;
   size_t previous_index_ = 0;
   geometry::Pose T_world_work_;                 ///< latest tracked pose (working camera)
@@ -105,7 +125,21 @@ class Odometry {
   std::mutex results_mutex_;
   std::deque<KeyframeResult> results_;
   std::set<size_t> pending_keyframe_frames_;
-  std::deque<std::pair<size_t, ImagePyramid>> pyramid_buffer_;
+  /// Pyramids of the frames since the oldest pending keyframe; the worker reads them to bring
+  /// a finished keyframe's new points up to date before handing it back.
+  class PyramidBuffer {
+   public:
+    void push(size_t frame_index, const ImagePyramid& pyramid, size_t capacity);
+    /// Frames from `first` on, in order.
+    std::vector<std::pair<size_t, ImagePyramid>> from(size_t first) const;
+    void drop_before(size_t frame_index);
+    void clear();
+
+   private:
+    mutable std::mutex mutex_;
+    std::deque<std::pair<size_t, ImagePyramid>> frames_;
+  };
+  PyramidBuffer pyramid_buffer_;
 
   std::vector<FrameRecord> records_;
 };

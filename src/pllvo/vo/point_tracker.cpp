@@ -17,11 +17,12 @@ PointTracker::PointTracker(const KltConfig& config)
       window_(config.window_px, config.window_px),
       criteria_(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, config.max_iterations, config.epsilon) {}
 
-ImagePyramid PointTracker::build_pyramid(const cv::Mat& image) const {
+ImagePyramid PointTracker::build_pyramid(const cv::Mat& image, int min_window, int min_levels) const {
   if (image.empty() || image.type() != CV_8UC1) throw InternalError("PointTracker: expects a CV_8UC1 image");
   ImagePyramid pyr;
   pyr.image = image;
-  cv::buildOpticalFlowPyramid(image, pyr.levels, window_, config_.levels, true);
+  const int window = std::max(config_.window_px, min_window);
+  pyr.flow = lines::OpticalFlowPyramid(image, cv::Size(window, window), std::max(config_.levels, min_levels));
   return pyr;
 }
 
@@ -37,7 +38,7 @@ TrackResult PointTracker::track(const ImagePyramid& from, const ImagePyramid& to
 
   std::vector<unsigned char> forward_ok, backward_ok;
   std::vector<float> err;
-  cv::calcOpticalFlowPyrLK(from.levels, to.levels, points, result.points, forward_ok, err, window_,
+  cv::calcOpticalFlowPyrLK(from.levels(), to.levels(), points, result.points, forward_ok, err, window_,
                            config_.levels, criteria_, cv::OPTFLOW_USE_INITIAL_FLOW,
                            config_.min_eigen_threshold);
   // Backward pass, seeded with the forward result minus the predicted motion (not with the
@@ -46,7 +47,7 @@ TrackResult PointTracker::track(const ImagePyramid& from, const ImagePyramid& to
   std::vector<cv::Point2f> back(n);
   for (size_t i = 0; i < n; ++i)
     back[i] = predicted && predicted->size() == n ? result.points[i] - ((*predicted)[i] - points[i]) : result.points[i];
-  cv::calcOpticalFlowPyrLK(to.levels, from.levels, result.points, back, backward_ok, err, window_,
+  cv::calcOpticalFlowPyrLK(to.levels(), from.levels(), result.points, back, backward_ok, err, window_,
                            config_.levels, criteria_, cv::OPTFLOW_USE_INITIAL_FLOW,
                            config_.min_eigen_threshold);
   const float border = static_cast<float>(config_.border_px);

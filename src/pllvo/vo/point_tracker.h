@@ -6,16 +6,19 @@
 
 #include <opencv2/core.hpp>
 
+#include "pllvo/features/lines/optical_flow_pyramid.h"
 #include "pllvo/vo/vo_config.h"
 
 namespace pllvo::vo {
 
-/// Image pyramid with gradients in cv::buildOpticalFlowPyramid's layout.
+/// One frame's image with its optical-flow pyramid (gradients included), shared by the point
+/// tracker and the line tracker: built once, for the larger of their windows and levels.
 struct ImagePyramid {
   cv::Mat image;
-  std::vector<cv::Mat> levels;
-  bool empty() const { return levels.empty(); }
+  lines::OpticalFlowPyramid flow;
+  bool empty() const { return flow.empty(); }
   cv::Size size() const { return image.size(); }
+  const std::vector<cv::Mat>& levels() const { return flow.levels(); }
 };
 
 struct TrackResult {
@@ -29,7 +32,9 @@ class PointTracker {
  public:
   explicit PointTracker(const KltConfig& config);
 
-  ImagePyramid build_pyramid(const cv::Mat& image) const;
+  /// Pyramid for this tracker, padded for a window of at least `min_window` pixels and with
+  /// at least `min_levels` levels above the base (so that another tracker can share it).
+  ImagePyramid build_pyramid(const cv::Mat& image, int min_window = 0, int min_levels = 0) const;
 
   /// Tracks `points` of `from` into `to`. `predicted` (same size) seeds the search, e.g. the
   /// projection of a 3-D point under the motion prior; without it the search starts in place.

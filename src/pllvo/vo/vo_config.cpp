@@ -76,6 +76,7 @@ void read_mapping(const ConfigNode& n, MappingConfig& c) {
 
 void read_run(const ConfigNode& n, RunConfig& c) {
   n.get("threaded", c.threaded);
+  n.get("wait_when_starving", c.wait_when_starving);
   n.get("progress_interval_s", c.progress_interval_s);
   n.reject_unknown_keys();
 }
@@ -104,6 +105,7 @@ void VoConfig::read(const ConfigNode& node) {
   read_run(node.child("run"), run);
   geometry.load(node.child("geometry"));
   backend.load(node.child("backend"));
+  lines.load(node.child("lines"));
   node.reject_unknown_keys();
 }
 

@@ -6,6 +6,7 @@
 
 #include "pllvo/backend/backend_config.h"
 #include "pllvo/common/yaml_config.h"
+#include "pllvo/features/lines/lines_config.h"
 #include "pllvo/geometry/geometry_config.h"
 
 namespace pllvo::vo {
@@ -106,6 +107,11 @@ struct MappingConfig {
 /// Everything else: threads, progress, output.
 struct RunConfig {
   bool threaded = true;        ///< keyframe worker thread; false: deterministic single thread
+  /// Threaded mode, offline input: when fewer map points are tracked than
+  /// keyframes.min_tracked_points while a keyframe is still being processed, the frame waits
+  /// for it instead of losing track (a live camera would drop frames then). Counted in
+  /// stats.json as `starved_waits`. Off: tracking never waits.
+  bool wait_when_starving = true;
   double progress_interval_s = 2.0;  ///< wall time between progress lines (0: none)
 };
 
@@ -119,6 +125,7 @@ struct VoConfig {
   RunConfig run;
   geometry::GeometryConfig geometry;  ///< section `geometry:` (keys of config/geometry.yaml)
   backend::BackendConfig backend;     ///< section `backend:` (keys of config/backend.yaml)
+  lines::LinesConfig lines;           ///< section `lines:` (keys of config/lines.yaml)
 
   /// Defaults overridden by the file; InputError names the file and key of a bad value.
   static VoConfig load(const std::filesystem::path& file);
