@@ -1,0 +1,94 @@
+// The pipeline end to end on the real fixtures, in the deterministic single-thread mode:
+// stereo initialisation (EuRoC, camera at rest), monocular initialisation and tracking
+// (KITTI drive), and a tracking loss with recovery (black frames inserted).
+#include <gtest/gtest.h>
+
+#include "pllvo/common/fixtures.h"
+#include "pllvo/io/sequence.h"
+#include "pllvo/vo/run_sequence.h"
+
+namespace pllvo::vo {
+namespace {
+
+VoConfig deterministic() {
+  VoConfig c;
+  c.run.threaded = false;
+  c.run.progress_interval_s = 0;
+  return c;
+}
+
+TEST(Odometry, StereoInitialisesAtMetricScaleAndStaysStillOnEuroc) {
+  const auto seq = io::open_sequence(shared_path("data/euroc_V1_01_easy_micro"));
+  RunOptions options;
+  options.max_frames = 40;
+  const RunSummary s = run_sequence(*seq, deterministic(), options);
+  EXPECT_TRUE(s.stereo);
+  EXPECT_EQ(s.tracked_frames, 40u);  // initialised on the first frame
+  EXPECT_EQ(s.stats["keyframes_by_reason"]["initialization"].get<int>(), 1);
+  EXPECT_EQ(s.resets, 0);
+  // The MAV is at rest (ground truth moves < 4 mm): the estimate must stay within 1 cm.
+  EXPECT_LT(s.max_displacement, 0.01);
+  ASSERT_TRUE(s.error.has_value());
+  EXPECT_LT(s.error->rmse_m, 0.005);
+}
+
+TEST(Odometry, MonocularInitialisesAndFollowsTheKittiDrive) {
+  const auto seq = io::open_sequence(shared_path("data/kitti_04_mono51"));
+  RunOptions options;
+  options.max_frames = 30;
+  const RunSummary s = run_sequence(*seq, deterministic(), options);
+  EXPECT_FALSE(s.stereo);
+  EXPECT_EQ(s.tracked_frames, 30u);  // frames before the two-view initialisation get poses too
+  EXPECT_EQ(s.resets, 0);
+  EXPECT_GE(s.stats["keyframes_by_reason"]["initialization"].get<int>(), 2);
+  ASSERT_TRUE(s.error.has_value());
+  EXPECT_EQ(s.error->align, "sim3");
+  EXPECT_GT(s.error->path_length_m, 30.0);
+  EXPECT_LT(s.error->percent_of_path, 1.0) << "ATE " << s.error->rmse_m << " m";
+}
+
+/// A sequence whose frames [first, last] are black (a covered lens, a light switched off).
+class BlackedOutSequence : public io::Sequence {
+ public:
+  BlackedOutSequence(std::unique_ptr<io::Sequence> inner, size_t first, size_t last)
+      : io::Sequence(inner->root()), inner_(std::move(inner)), first_(first), last_(last) {
+    calib_ = inner_->calibration();
+    stamps_ = inner_->timestamps();
+    ground_truth_ = inner_->ground_truth();
+  }
+  std::string format() const override { return inner_->format(); }
+  io::Frame frame(size_t i) const override {
+    io::Frame f = inner_->frame(i);
+    if (i >= first_ && i <= last_) {
+      f.left.setTo(0);
+      if (!f.right.empty()) f.right.setTo(0);
+    }
+    return f;
+  }
+
+ private:
+  std::unique_ptr<io::Sequence> inner_;
+  size_t first_, last_;
+};
+
+TEST(Odometry, LosesTrackOnBlackFramesAndRecoversAfterThem) {
+  BlackedOutSequence seq(io::open_sequence(shared_path("data/kitti_04_mono51")), 15, 18);
+  RunOptions options;
+  options.max_frames = 40;
+  const RunSummary s = run_sequence(seq, deterministic(), options);
+  EXPECT_GE(s.resets, 1);
+  ASSERT_FALSE(s.lost.empty());
+  // The black frames are not tracked, and the gap is reported.
+  bool covered = false;
+  for (const auto& l : s.lost) covered |= l.first_frame <= 15 && l.last_frame >= 18;
+  EXPECT_TRUE(covered);
+  // Tracking resumes after the black frames: the last frames have poses again.
+  const double last_stamp = seq.timestamp(39);
+  ASSERT_FALSE(s.trajectory.empty());
+  EXPECT_DOUBLE_EQ(s.trajectory.stamps.back(), last_stamp);
+  EXPECT_GE(s.tracked_frames, 30u);
+  EXPECT_EQ(s.stats["lost_intervals"].size(), s.lost.size());
+}
+
+}  // namespace
+}  // namespace pllvo::vo
