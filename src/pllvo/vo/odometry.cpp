@@ -107,6 +107,10 @@ FrameRecord Odometry::process(const io::Frame& frame) {
 bool Odometry::initialize(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
                           const ImagePyramid& pyramid) {
   ScopedTimer t(stats_, "init");
+  if (cv::mean(left)[0] < config_.init.min_brightness) {
+    mono_.reset();
+    return false;
+  }
   return rectifier_.stereo() ? initialize_stereo(frame, left, right, pyramid)
                              : initialize_mono(frame, left, pyramid);
 }

@@ -53,6 +53,7 @@ void read_init(const ConfigNode& n, InitConfig& c) {
   n.get("mono_min_flow_px", c.mono_min_flow_px);
   n.get("max_frames", c.max_frames);
   n.get("stereo_min_points", c.stereo_min_points);
+  n.get("min_brightness", c.min_brightness);
   n.reject_unknown_keys();
 }
 

@@ -80,6 +80,9 @@ struct InitConfig {
   double mono_min_flow_px = 20.0; ///< median image motion before a two-view attempt
   int max_frames = 60;            ///< give up on a reference frame after this many frames
   int stereo_min_points = 30;     ///< stereo points needed for the first keyframe
+  /// No map is started on a frame darker than this mean grey level: there, what the
+  /// contrast-stretched detector finds is mostly sensor noise.
+  double min_brightness = 10.0;
 };
 
 /// Per-frame pose: PnP + RANSAC (geometry.pnp), then the robust refinement with point and
