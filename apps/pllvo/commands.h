@@ -6,5 +6,6 @@
 namespace pllvo::cli {
 
 void add_eval_command(CLI::App& app);
+void add_synth_command(CLI::App& app);
 
 }  // namespace pllvo::cli

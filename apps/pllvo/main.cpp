@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   app.parse_complete_callback([&] { spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info); });
 
   pllvo::cli::add_eval_command(app);
+  pllvo::cli::add_synth_command(app);
 
   try {
     app.parse(argc, argv);
