@@ -1,6 +1,7 @@
 #include "pllvo/io/euroc_writer.h"
 
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <system_error>
 
@@ -62,7 +63,8 @@ std::string euroc_camera_yaml(const EurocCamera& camera, const std::string& comm
   std::string s = "%YAML:1.0\n# General sensor definitions.\nsensor_type: camera\ncomment: " + comment + "\n\n";
   s += "# Sensor extrinsics wrt. the body-frame.\n" + T_BS_yaml(camera.T_body_cam) + "\n";
   s += "# Camera specific definitions.\n";
-  s += "rate_hz: " + number(camera.rate_hz) + "\n";
+  const bool whole = camera.rate_hz == std::floor(camera.rate_hz) && camera.rate_hz < 1e9;
+  s += "rate_hz: " + (whole ? std::to_string(static_cast<long long>(camera.rate_hz)) : number(camera.rate_hz)) + "\n";
   s += "resolution: [" + std::to_string(m.width()) + ", " + std::to_string(m.height()) + "]\n";
   s += "camera_model: pinhole\n";
   s += "intrinsics: " + list({k.fx, k.fy, k.cx, k.cy}) + " #fu, fv, cu, cv\n";

@@ -38,16 +38,18 @@ std::vector<DronePath::Wave> make_waves(Random& rng, int count, double total, do
   return waves;
 }
 
-/// Smallest x in [0, hi] with f(x) >= target for an increasing f (bisection).
+/// Rate r with f(r) = target for f roughly proportional to r (mean speed or turn rate of a
+/// time-scaled path): fixed-point iterations r <- r * target / f(r).
 template <typename F>
-double solve_increasing(F f, double target, double hi) {
-  double lo = 0;
-  if (f(hi) < target) return hi;
-  for (int it = 0; it < 40; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (f(mid) < target ? lo : hi) = mid;
+double solve_rate(F f, double target) {
+  if (target <= 0) return 0;
+  double r = 1.0;
+  for (int it = 0; it < 8; ++it) {
+    const double value = f(r);
+    if (value <= 1e-12) return r;
+    r = std::clamp(r * target / value, 1e-3, 1e3);
   }
-  return 0.5 * (lo + hi);
+  return r;
 }
 
 }  // namespace
@@ -60,8 +62,7 @@ Eigen::Vector3d CameraPath::velocity(double t) const {
 Eigen::Isometry3d ConstantVelocityPath::pose(double t) const {
   Eigen::Isometry3d T = T0_;
   T.translation() += v_ * t;
-  const double angle = w_.norm() * t;
-  if (angle > 0) T.linear() = T0_.linear() * Eigen::AngleAxisd(angle, w_.normalized()).toRotationMatrix();
+  if (w_.norm() > 0) T.linear() = T0_.linear() * Eigen::AngleAxisd(w_.norm() * t, w_.normalized()).toRotationMatrix();
   return T;
 }
 
@@ -99,18 +100,18 @@ DronePath::DronePath(const MotionSpec& m, const Scene& scene, uint64_t seed) {
   }
 
   // Solve the time scales over a long window so that short sequences keep the same flight.
-  pos_rate_ = solve_increasing(
+  pos_rate_ = solve_rate(
       [&](double r) {
         pos_rate_ = r;
         return path_stats(*this, 0, kCalibrationWindow, 20).mean_speed;
       },
-      m.mean_speed, 50.0);
-  rot_rate_ = solve_increasing(
+      m.mean_speed);
+  rot_rate_ = solve_rate(
       [&](double r) {
         rot_rate_ = r;
         return path_stats(*this, 0, kCalibrationWindow, 20).mean_angular_rate;
       },
-      m.mean_angular_rate, 50.0);
+      m.mean_angular_rate);
 }
 
 Eigen::Vector3d DronePath::position(double t) const {

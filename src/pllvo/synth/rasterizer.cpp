@@ -179,7 +179,7 @@ __attribute__((target("avx2"))) void shade_span_avx2(const Rasterizer::QuadShadi
     }
     __m256 v = bilinear8(q, l, S, T);
     const int l1 = std::min(l + 1, q.num_levels - 1);
-    if (!_mm256_testz_ps(f, f)) v = _mm256_add_ps(v, _mm256_mul_ps(f, _mm256_sub_ps(bilinear8(q, l1, S, T), v)));
+    if (_mm256_movemask_ps(_mm256_cmp_ps(f, _mm256_setzero_ps(), _CMP_NEQ_OQ)) != 0) v = _mm256_add_ps(v, _mm256_mul_ps(f, _mm256_sub_ps(bilinear8(q, l1, S, T), v)));
     _mm256_maskstore_ps(sp.rad + c, pass, _mm256_mul_ps(v, _mm256_set1_ps(scale)));
     _mm256_maskstore_ps(sp.zb + c, pass, w);
     _mm256_maskstore_epi32(sp.id + c, pass, _mm256_set1_epi32(q.index));

@@ -29,7 +29,7 @@ cv::Mat value_noise(cv::Size size, double cell, Random& rng, double stretch_x = 
     for (int c = 0; c < gw; ++c) g[c] = static_cast<float>(rng.uniform(-1.0, 1.0));
   }
   cv::Mat out;
-  cv::resize(grid, out, size, 0, 0, cell > 3 ? cv::INTER_CUBIC : cv::INTER_LINEAR);
+  cv::resize(grid, out, size, 0, 0, cell > 12 ? cv::INTER_CUBIC : cv::INTER_LINEAR);
   return out;
 }
 

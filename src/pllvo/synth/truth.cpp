@@ -34,30 +34,27 @@ bool clip_to_rect(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1, double w
 
 class VisibilityTest {
  public:
-  explicit VisibilityTest(const Rasterizer& raster)
-      : inv_depth_(raster.inverse_depth()), ids_(raster.quad_ids()), w_(ids_.cols), h_(ids_.rows) {}
+  explicit VisibilityTest(const Rasterizer& raster) : ids_(raster.quad_ids()), w_(ids_.cols), h_(ids_.rows) {}
 
-  bool operator()(const SceneEdge& e, const Eigen::Vector2d& x, double inv_depth) const {
+  /// Visible when the edge's own quad is seen within a pixel of the point: a crease or
+  /// border shows on a face it bounds, a texture edge on its quad. An occluder, or the quad
+  /// facing away, hides it.
+  bool operator()(const SceneEdge& e, const Eigen::Vector2d& x) const {
     const int cx = static_cast<int>(std::lround(x.x())), cy = static_cast<int>(std::lround(x.y()));
-    const bool border = e.kind == EdgeKind::geometric;
     for (int dy = -1; dy <= 1; ++dy) {
       const int y = cy + dy;
       if (y < 0 || y >= h_) continue;
       const auto* id = ids_.ptr<int32_t>(y);
-      const auto* iz = inv_depth_.ptr<float>(y);
       for (int dx = -1; dx <= 1; ++dx) {
         const int xx = cx + dx;
         if (xx < 0 || xx >= w_ || id[xx] < 0) continue;
         if (id[xx] == e.quads[0] || id[xx] == e.quads[1]) return true;
-        // A quad border is also seen where the surface at the pixel lies behind it (silhouette).
-        if (border && iz[xx] <= inv_depth * (1.0 + 2e-3)) return true;
       }
     }
     return false;
   }
 
  private:
-  const cv::Mat& inv_depth_;
   const cv::Mat& ids_;
   int w_, h_;
 };
@@ -139,7 +136,7 @@ std::vector<TruthSegment> visible_segments(const Scene& scene, const Eigen::Isom
       const Eigen::Vector3d P = P0 + s * (P1 - P0);
       Sample smp{Eigen::Vector2d::Zero(), ta + s * (tb - ta), false};
       if (camera.project(P, smp.uv) && camera.in_image(smp.uv))
-        smp.visible = visible(e, view.project(P), 1.0 / P.z());
+        smp.visible = visible(e, view.project(P));
       samples.push_back(smp);
     }
     for (int i = 0; i <= n;) {

@@ -32,9 +32,9 @@ struct SegmentOptions {
 };
 
 /// Visible pieces of every scene edge, seen from T_cam_world. Visibility is decided per
-/// sample (<= 1 ideal pixel apart) against the rasterizer's z-buffer: a sample is visible
-/// when, in its 3x3 neighbourhood, the surface seen is the edge's own quad or (for quad
-/// borders) lies behind the edge.
+/// sample (<= 1 ideal pixel apart) against what the rasterizer drew: a sample is visible
+/// when one of the edge's own quads is seen in its 3x3 pixel neighbourhood (so visibility
+/// is exact to about one pixel at occlusion boundaries).
 std::vector<TruthSegment> visible_segments(const Scene& scene, const Eigen::Isometry3d& T_cam_world,
                                            const camera::CameraModel& camera, const Rasterizer& raster,
                                            const SegmentOptions& options = {});
