@@ -209,6 +209,8 @@ TEST(SynthGeometry, MotionBlurSmearsAlongTheMotionOnly) {
   spec.sensor.motion_blur = true;
   spec.sensor.exposure_ms = 10;
   spec.sensor.max_exposure_ms = 10;
+  spec.sensor.sensitivity = 1200;  // no saturation: clipping would hide the smear
+  spec.sensor.blur_step_px = 1.0;
   // Panning about the camera's y axis at 1 rad/s: ~4.6 px of horizontal motion in 10 ms.
   Generator moving(spec, scene, std::make_shared<ConstantVelocityPath>(pose, Eigen::Vector3d::Zero(),
                                                                          Eigen::Vector3d(0, 1.0, 0)));

@@ -123,7 +123,8 @@ CameraFrame Generator::render_camera(size_t c, size_t frame, double t, const Fra
   const Eigen::Isometry3d T_cw = out.T_world_cam.inverse();
   const double e = exposure.exposure_ms * 1e-3;
   const int state_mid = exposure_->state(t);
-  main_->render(scene_, radiance_[state_mid], T_cw, 1.0f);
+  const bool truth = options.lines || options.depth;
+  main_->render(scene_, radiance_[state_mid], T_cw, 1.0f, truth);
 
   // Split the exposure into sub-exposures (motion blur) and at the moment the lights go off.
   const int n = count_subframes(c, t, e);
@@ -151,7 +152,7 @@ CameraFrame Generator::render_camera(size_t c, size_t frame, double t, const Fra
     for (const auto& p : parts) {
       const Rasterizer* r = main_.get();
       if (main_used || p.time != t || p.state != state_mid) {
-        scratch_->render(scene_, radiance_[p.state], T_world_cam(c, p.time).inverse(), 1.0f);
+        scratch_->render(scene_, radiance_[p.state], T_world_cam(c, p.time).inverse(), 1.0f, false);
         r = scratch_.get();
       } else {
         main_used = true;

@@ -20,7 +20,7 @@ constexpr double kLowBandTop = 0.86;   // boxes below, posters and windows above
 constexpr double kHighBandBottom = 0.88;
 constexpr double kGap = 0.12;           // between neighbouring wall items
 constexpr double kPanelPower = 1.0;     // per ceiling panel (normalised later)
-constexpr double kWindowPower = 0.12;   // per m^2 of window at window_light 1
+constexpr double kWindowPower = 0.25;   // per m^2 of window at window_light 1
 
 /// Local frame of a wall or object: point = origin + a*right + z*up + d*normal.
 struct Frame {
@@ -162,7 +162,7 @@ class RoomBuilder {
       for (int ix = 0; ix < nx && placed < count; ++ix, ++placed) {
         const Vec3 c((ix + 0.5) / nx * L - L / 2, (iy + 0.5) / ny * W - W / 2, H - 0.01);
         builder_.add_facing(c, -kUp, Vec3::UnitX(), 0.6, 0.6,
-                            textures::light_panel(Extent{0.6, 0.6, 100}, rng_, 4.0, 0.02));
+                            textures::light_panel(Extent{0.6, 0.6, 100}, rng_, 4.7));
         Light light;
         light.position = c - 0.05 * kUp;
         light.direction = -kUp;
@@ -219,8 +219,10 @@ class RoomBuilder {
     add_box(builder_, f, am - bar, am + bar, z0, z1, 0, 0.03, kFront | kLeft | kRight, tex, tex, 150);
     add_box(builder_, f, a0, am - bar, zm - bar, zm + bar, 0, 0.03, kFront | kTop | kBottom, tex, tex, 150);
     add_box(builder_, f, am + bar, a0 + width, zm - bar, zm + bar, 0, 0.03, kFront | kTop | kBottom, tex, tex, 150);
+    // Daylight through the window: a cosine emitter well behind the pane, so that the
+    // walls and ceiling next to the window are not lit like by a bare bulb.
     Light light;
-    light.position = f.at(a0 + width / 2, (z0 + z1) / 2, 0.3);
+    light.position = f.at(a0 + width / 2, (z0 + z1) / 2, -1.5);
     light.direction = f.normal;
     light.power = kWindowPower * spec_.window_light * width * (z1 - z0);
     light.on = {true, true};

@@ -29,7 +29,7 @@ cv::Mat irradiance_map(const Scene& scene, int state, const Quad& q, cv::Size si
 cv::Mat quad_radiance(const Scene& scene, int state, size_t qi, double light_scale) {
   const Quad& q = scene.quads[qi];
   const Texture& tex = scene.textures[q.texture];
-  if (tex.emissive) return tex.image * tex.emission[state];
+  if (tex.emissive && tex.emission[state] >= 0) return tex.image * tex.emission[state];
   cv::Mat E = irradiance_map(scene, state, q, tex.image.size());
   return tex.image.mul(E, light_scale);
 }

@@ -88,7 +88,7 @@ void shade_span_scalar(const Rasterizer::QuadShading& q, const Span& sp, float g
     const float S = (sp.s0 + j * q.a00) * iw, T = (sp.t0 + j * q.a10) * iw;
     sp.rad[c] = shade_pixel(q, S, T, iw) * scale;
     sp.zb[c] = w;
-    sp.id[c] = q.index;
+    if (sp.id) sp.id[c] = q.index;
   }
 }
 
@@ -135,7 +135,7 @@ __attribute__((target("avx2"))) void shade_span_avx2(const Rasterizer::QuadShadi
     const __m256i valid = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
     const __m256 j = _mm256_add_ps(_mm256_set1_ps(static_cast<float>(c - sp.c0)), lane);
     const __m256 w = _mm256_add_ps(_mm256_set1_ps(sp.w0), _mm256_mul_ps(j, _mm256_set1_ps(q.a20)));
-    const __m256 z = _mm256_maskload_ps(sp.zb + c, valid);
+    const __m256 z = n == 8 ? _mm256_loadu_ps(sp.zb + c) : _mm256_maskload_ps(sp.zb + c, valid);
     const __m256i pass = _mm256_and_si256(valid, _mm256_castps_si256(_mm256_cmp_ps(w, z, _CMP_GT_OQ)));
     if (_mm256_testz_si256(pass, pass)) continue;
     const __m256 iw = _mm256_div_ps(one, w);
@@ -173,7 +173,7 @@ __attribute__((target("avx2"))) void shade_span_avx2(const Rasterizer::QuadShadi
         if (!passed[k]) continue;
         sp.rad[c + k] = shade_pixel(q, Sv[k], Tv[k], iwv[k]) * scale;
         sp.zb[c + k] = wv[k];
-        sp.id[c + k] = q.index;
+        if (sp.id) sp.id[c + k] = q.index;
       }
       continue;
     }
@@ -182,7 +182,7 @@ __attribute__((target("avx2"))) void shade_span_avx2(const Rasterizer::QuadShadi
     if (_mm256_movemask_ps(_mm256_cmp_ps(f, _mm256_setzero_ps(), _CMP_NEQ_OQ)) != 0) v = _mm256_add_ps(v, _mm256_mul_ps(f, _mm256_sub_ps(bilinear8(q, l1, S, T), v)));
     _mm256_maskstore_ps(sp.rad + c, pass, _mm256_mul_ps(v, _mm256_set1_ps(scale)));
     _mm256_maskstore_ps(sp.zb + c, pass, w);
-    _mm256_maskstore_epi32(sp.id + c, pass, _mm256_set1_epi32(q.index));
+    if (sp.id) _mm256_maskstore_epi32(sp.id + c, pass, _mm256_set1_epi32(q.index));
   }
 }
 #endif
@@ -194,9 +194,10 @@ Rasterizer::Rasterizer(IdealView view, double near_m, bool simd) : view_(std::mo
       static_cast<int>(view_.row_end.size()) != view_.height ||
       static_cast<int>(view_.hole_begin.size()) != view_.height || static_cast<int>(view_.hole_end.size()) != view_.height)
     throw InternalError("Rasterizer: malformed ideal view");
-  radiance_.create(view_.height, view_.width, CV_32F);
-  inv_depth_.create(view_.height, view_.width, CV_32F);
-  ids_.create(view_.height, view_.width, CV_32S);
+  // Zero outside the drawn region once; render() clears only the drawn region.
+  radiance_ = cv::Mat::zeros(view_.height, view_.width, CV_32F);
+  inv_depth_ = cv::Mat::zeros(view_.height, view_.width, CV_32F);
+  ids_ = cv::Mat(view_.height, view_.width, CV_32S, cv::Scalar(-1));
 #ifdef PLLVO_SYNTH_AVX2
   avx2_ = simd && __builtin_cpu_supports("avx2");
 #else
@@ -205,10 +206,16 @@ Rasterizer::Rasterizer(IdealView view, double near_m, bool simd) : view_(std::mo
 }
 
 void Rasterizer::render(const Scene& scene, const RadianceState& radiance, const Eigen::Isometry3d& T_cam_world,
-                        float gain) {
-  radiance_.setTo(0);
-  inv_depth_.setTo(0);
-  ids_.setTo(-1);
+                        float gain, bool with_ids) {
+  with_ids_ = with_ids;
+  // Clear only what is drawn: most of the cost here is memory traffic.
+  for (int y = 0; y < view_.height; ++y) {
+    const int c0 = view_.row_begin[y], n = view_.row_end[y] - c0;
+    if (n <= 0) continue;
+    std::fill_n(radiance_.ptr<float>(y) + c0, n, 0.0f);
+    std::fill_n(inv_depth_.ptr<float>(y) + c0, n, 0.0f);
+  }
+  if (with_ids) ids_.setTo(-1);
   // Front to back, so that hidden pixels fail the depth test before their texture lookup.
   const Eigen::Vector3d eye = T_cam_world.inverse().translation();
   order_.clear();
@@ -308,7 +315,7 @@ void Rasterizer::draw_quad(const Quad& quad, int index, const MipTexture& tex, c
       sp.w0 = static_cast<float>(A(2, 0) * sp.c0 + A(2, 1) * y + A(2, 2));
       sp.rad = radiance_.ptr<float>(y);
       sp.zb = inv_depth_.ptr<float>(y);
-      sp.id = ids_.ptr<int32_t>(y);
+      sp.id = with_ids_ ? ids_.ptr<int32_t>(y) : nullptr;
 #ifdef PLLVO_SYNTH_AVX2
       if (avx2_) {
         shade_span_avx2(q, sp, gain);

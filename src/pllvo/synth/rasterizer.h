@@ -35,13 +35,14 @@ class Rasterizer {
 
   const IdealView& view() const { return view_; }
 
-  /// Renders from camera pose T_cam_world; radiance is multiplied by `gain`.
+  /// Renders from camera pose T_cam_world; radiance is multiplied by `gain`. Quad ids are
+  /// written only `with_ids` (they cost memory traffic and only the ground truth needs them).
   void render(const Scene& scene, const RadianceState& radiance, const Eigen::Isometry3d& T_cam_world,
-              float gain);
+              float gain, bool with_ids = true);
 
   const cv::Mat& radiance() const { return radiance_; }        ///< CV_32F
   const cv::Mat& inverse_depth() const { return inv_depth_; }  ///< CV_32F, 1/z; 0 where empty
-  const cv::Mat& quad_ids() const { return ids_; }             ///< CV_32S; -1 where empty
+  const cv::Mat& quad_ids() const { return ids_; }  ///< CV_32S; -1 where empty (last render with ids)
 
   struct QuadShading;  ///< per-quad shading constants (internal)
 
@@ -54,6 +55,7 @@ class Rasterizer {
   cv::Mat radiance_, inv_depth_, ids_;
   std::vector<std::pair<double, int>> order_;
   bool avx2_ = false;
+  bool with_ids_ = true;
 };
 
 }  // namespace pllvo::synth

@@ -29,7 +29,9 @@ struct Texture {
   cv::Mat image;
   std::vector<TextureEdge> edges;
   bool emissive = false;
-  /// Emissive surfaces: radiance multiplier per lighting state (0: lights on, 1: lights off).
+  /// Emissive surfaces: radiance multiplier per lighting state (0: lights on, 1: lights off);
+  /// a negative value makes the surface reflect light like any other in that state (a lamp
+  /// switched off).
   std::array<double, 2> emission = {1.0, 1.0};
 };
 

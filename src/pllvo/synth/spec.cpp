@@ -380,7 +380,7 @@ struct LightingVariant {
 
 const LightingVariant kVariants[] = {
     {"normal", "office lighting, auto exposure settled"},
-    {"lowlight", "1% of the light: long exposure, high gain, dark and noisy"},
+    {"lowlight", "0.5% of the light: longest exposure, highest gain, dark and noisy"},
     {"flicker", "lamps flickering at 107 Hz, beating with the 20 Hz frame rate"},
     {"gradual", "exposure sweeping slowly between 1/3 and 3x"},
     {"sudden", "exposure jumping by 2.5x every few seconds"},

@@ -46,7 +46,7 @@ struct LightingSpec {
   /// normal | low_light | exposure_gradual | exposure_sudden | flicker | light_off
   std::string mode = "normal";
   double illumination = 1.0;        ///< light level relative to the nominal office
-  double low_light_level = 0.01;    ///< light level in mode low_light
+  double low_light_level = 0.005;   ///< light level in mode low_light
   double flicker_hz = 107;          ///< lamp modulation frequency (beats with the frame rate)
   double flicker_depth = 0.6;       ///< modulation depth of the lamps (0..1)
   double gradual_period_s = 8;      ///< exposure_gradual: period of the exposure sweep
@@ -59,8 +59,8 @@ struct LightingSpec {
 
 /// Global-shutter sensor and optics.
 struct SensorSpec {
-  double sensitivity = 2000;      ///< electrons per ms at unit radiance (mean wall ~0.3)
-  double exposure_ms = 5;         ///< auto exposure's target exposure at illumination 1
+  double sensitivity = 3300;      ///< electrons per ms at unit radiance (mean wall ~0.3)
+  double exposure_ms = 3;         ///< auto exposure's target exposure at illumination 1
   double min_exposure_ms = 0.05;
   double max_exposure_ms = 15;
   double max_gain = 8;            ///< analogue gain used once exposure is at its maximum
@@ -70,7 +70,7 @@ struct SensorSpec {
   double vignetting = 0.5;        ///< 0: none, 1: full cos^4 falloff
   double psf_sigma_px = 0.6;      ///< optical blur (Gaussian sigma in pixels); 0: none
   bool motion_blur = true;
-  double blur_step_px = 1.5;      ///< at most this image motion between sub-exposures
+  double blur_step_px = 2.0;      ///< at most this image motion between sub-exposures
   int max_subframes = 15;
   double near_m = 0.05;           ///< near clipping plane
 };

@@ -422,15 +422,15 @@ Texture window_view(const Extent& e, Random& rng, double radiance) {
   return t;
 }
 
-Texture light_panel(const Extent& e, Random& rng, double radiance, double off) {
+Texture light_panel(const Extent& e, Random& rng, double radiance) {
   const cv::Size size = e.texels();
-  Texture t = make(size, 0.55);
+  Texture t = make(size, 0.5);
   const int border = texels(0.03, e.texels_per_m, 2);
-  fill_rect(t, border, border, size.width - border, size.height - border, 1.0);
+  fill_rect(t, border, border, size.width - border, size.height - border, 0.85);
   t.image += fbm(size, rng, 0.1 * e.texels_per_m, 2.0, 0.6) * 0.01;
   clamp01(t.image);
   t.emissive = true;
-  t.emission = {radiance, off};
+  t.emission = {radiance, -1.0};
   return t;
 }
 

@@ -36,8 +36,9 @@ Texture books(const Extent& e, Random& rng);
 Texture paint(const Extent& e, Random& rng, double base, double noise = 0.01);
 /// Daylight seen through a window (emissive): sky gradient and blurred buildings.
 Texture window_view(const Extent& e, Random& rng, double radiance);
-/// Ceiling light panel (emissive with louvres); `off` is its radiance when switched off.
-Texture light_panel(const Extent& e, Random& rng, double radiance, double off);
+/// Ceiling light panel: emits `radiance` when on; switched off, its diffuser reflects the
+/// remaining light like any surface.
+Texture light_panel(const Extent& e, Random& rng, double radiance);
 /// Whiteboard with faint marker strokes.
 Texture whiteboard(const Extent& e, Random& rng);
 /// Door leaf: wood with two inset panels.
