@@ -1,8 +1,10 @@
 // Rendering speed of the synthetic camera on one core (the target: >= 50 frames/s at
-// 752x480 for a normal preset). Run:  build/bin/bench_synth --benchmark_counters_tabular=true
-// items_per_second is frames per second. BM_Baseline_ImagePipeline is the per-frame floor
-// that does not depend on the scene (remap + blur + noise + quantisation of one frame), and
-// the ratio "frames/s / baseline frames/s" is what to compare between machines.
+// 752x480 for a normal preset). Run:  build/bin/bench_synth
+// items_per_second is frames per second (CPU time); "subframes" is the mean number of renders
+// averaged per frame for motion blur. BM_Baseline_ImagePipeline is the per-frame work that
+// does not depend on the scene (lens remap + optical blur + noise + quantisation of one
+// frame); the ratio of a preset's frames/s to the baseline's is what to compare between
+// machines or runs on a loaded machine.
 #include <benchmark/benchmark.h>
 
 #include <map>
@@ -17,15 +19,21 @@ using namespace pllvo::synth;
 
 namespace {
 
-Generator& generator(const std::string& preset_name) {
+/// Variants of a preset: "+stereo" adds cam1, "+noblur" turns motion blur off.
+Generator& generator(const std::string& key) {
   static std::map<std::string, std::unique_ptr<Generator>> cache;
-  auto& g = cache[preset_name];
-  if (!g) g = std::make_unique<Generator>(preset(preset_name));
+  auto& g = cache[key];
+  if (!g) {
+    SequenceSpec spec = preset(key.substr(0, key.find('+')));
+    if (key.find("+stereo") != std::string::npos) spec.camera.stereo = true;
+    if (key.find("+noblur") != std::string::npos) spec.sensor.motion_blur = false;
+    g = std::make_unique<Generator>(spec);
+  }
   return *g;
 }
 
 void render_frames(benchmark::State& state, const std::string& name, const RenderOptions& options) {
-  cv::setNumThreads(1);
+  cv::setNumThreads(1);  // one core
   Generator& gen = generator(name);
   size_t i = 0;
   int subframes = 0;
@@ -76,5 +84,7 @@ BENCHMARK_CAPTURE(BM_Render, medium_lowtexture, std::string("medium_lowtexture")
 BENCHMARK_CAPTURE(BM_Render, medium_lowlight, std::string("medium_lowlight"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Render, difficult_lowlight, std::string("difficult_lowlight"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_RenderWithTruth, medium_normal, std::string("medium_normal"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Render, medium_normal_noblur, std::string("medium_normal+noblur"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Render, medium_normal_stereo, std::string("medium_normal+stereo"))->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -66,6 +66,7 @@ TEST(SynthGeometry, ProjectedCornersHitRenderedCornersSubPixel) {
     opt.noise = false;
     const RenderedFrame f = gen.render(0, opt);
     const CornerError e = corner_error(f.cameras[0].image, *gen.camera(0), f.cameras[0].T_world_cam, corners, 7);
+    std::printf("checker corners: %d, error mean %.3f px, max %.3f px\n", e.count, e.mean, e.max);
     EXPECT_GT(e.count, 150);
     EXPECT_LT(e.max, 0.5) << "mean " << e.mean;
     EXPECT_LT(e.mean, 0.15);
@@ -141,6 +142,7 @@ TEST(SynthGeometry, StereoPairIsRectifiedWithTheRightDisparity) {
   }
   EXPECT_GT(checked, 100);
   EXPECT_LT(max_dy, 0.5);
+  std::printf("stereo: %d corner pairs, max row difference %.3f px\n", checked, max_dy);
 }
 
 namespace {

@@ -5,6 +5,10 @@
 
 #include <opencv2/imgproc.hpp>
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
+
 #include "pllvo/common/error.h"
 
 namespace pllvo::synth {
@@ -64,11 +68,76 @@ LensModel::LensModel(const camera::CameraModel& camera) {
     view_.hole_begin[r] = gap_begin;
     view_.hole_end[r] = gap_end;
   }
-  cv::convertMaps(ideal_xy_, cv::Mat(), map_fixed_, map_frac_, CV_16SC2);
+  tap_index_.resize(static_cast<size_t>(W) * H);
+  tap_fx_.resize(tap_index_.size());
+  tap_fy_.resize(tap_index_.size());
+  for (int v = 0; v < H; ++v)
+    for (int u = 0; u < W; ++u) {
+      const cv::Vec2f p = ideal_xy_.at<cv::Vec2f>(v, u);
+      const int x0 = static_cast<int>(std::floor(p[0])), y0 = static_cast<int>(std::floor(p[1]));
+      if (x0 < 0 || y0 < 0 || x0 + 1 >= view_.width || y0 + 1 >= view_.height)
+        throw InternalError("synth: lens map leaves the ideal view");
+      const size_t i = static_cast<size_t>(v) * W + u;
+      tap_index_[i] = y0 * view_.width + x0;
+      tap_fx_[i] = p[0] - static_cast<float>(x0);
+      tap_fy_[i] = p[1] - static_cast<float>(y0);
+    }
+#if defined(__x86_64__) && defined(__GNUC__)
+  avx2_ = __builtin_cpu_supports("avx2");
+#endif
 }
 
+namespace {
+
+inline float lerp4(float p00, float p01, float p10, float p11, float fx, float fy) {
+  const float a = p00 + fx * (p01 - p00);
+  const float b = p10 + fx * (p11 - p10);
+  return a + fy * (b - a);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx2"))) void distort_avx2(const float* src, int stride, const int32_t* index,
+                                                   const float* fx, const float* fy, float* dst, size_t n) {
+  const __m256i down = _mm256_set1_epi32(stride), one = _mm256_set1_epi32(1);
+  size_t i = 0;
+  for (; i + 8 <= n; i += 8) {
+    const __m256i idx = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index + i));
+    const __m256 p00 = _mm256_i32gather_ps(src, idx, 4);
+    const __m256 p01 = _mm256_i32gather_ps(src, _mm256_add_epi32(idx, one), 4);
+    const __m256i idx1 = _mm256_add_epi32(idx, down);
+    const __m256 p10 = _mm256_i32gather_ps(src, idx1, 4);
+    const __m256 p11 = _mm256_i32gather_ps(src, _mm256_add_epi32(idx1, one), 4);
+    const __m256 x = _mm256_loadu_ps(fx + i), y = _mm256_loadu_ps(fy + i);
+    const __m256 a = _mm256_add_ps(p00, _mm256_mul_ps(x, _mm256_sub_ps(p01, p00)));
+    const __m256 b = _mm256_add_ps(p10, _mm256_mul_ps(x, _mm256_sub_ps(p11, p10)));
+    _mm256_storeu_ps(dst + i, _mm256_add_ps(a, _mm256_mul_ps(y, _mm256_sub_ps(b, a))));
+  }
+  for (; i < n; ++i) {
+    const float* p = src + index[i];
+    dst[i] = lerp4(p[0], p[1], p[stride], p[stride + 1], fx[i], fy[i]);
+  }
+}
+#endif
+
+}  // namespace
+
 void LensModel::distort(const cv::Mat& ideal, cv::Mat& image) const {
-  cv::remap(ideal, image, map_fixed_, map_frac_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+  if (ideal.type() != CV_32F || ideal.rows != view_.height || ideal.cols != view_.width || !ideal.isContinuous())
+    throw InternalError("LensModel::distort: expected a continuous CV_32F image of the ideal view's size");
+  image.create(ideal_xy_.size(), CV_32F);
+  const float* src = ideal.ptr<float>(0);
+  float* dst = image.ptr<float>(0);
+  const size_t n = tap_index_.size();
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (avx2_) {
+    distort_avx2(src, view_.width, tap_index_.data(), tap_fx_.data(), tap_fy_.data(), dst, n);
+    return;
+  }
+#endif
+  for (size_t i = 0; i < n; ++i) {
+    const float* p = src + tap_index_[i];
+    dst[i] = lerp4(p[0], p[1], p[view_.width], p[view_.width + 1], tap_fx_[i], tap_fy_[i]);
+  }
 }
 
 }  // namespace pllvo::synth

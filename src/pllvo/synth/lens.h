@@ -2,6 +2,9 @@
 // The path from the ideal pinhole rendering to the camera's pixels: an ideal view large
 // enough for the lens's whole field, a remap table built from the camera model (each
 // camera pixel samples the ideal image where its ray lands), and per-pixel bearings.
+#include <cstdint>
+#include <vector>
+
 #include <opencv2/core.hpp>
 
 #include "pllvo/camera/camera_model.h"
@@ -16,7 +19,8 @@ class LensModel {
   explicit LensModel(const camera::CameraModel& camera);
 
   const IdealView& ideal_view() const { return view_; }
-  /// Camera image (CV_32F, camera size) from an ideal image (CV_32F, ideal size), bilinear.
+  /// Camera image (CV_32F, camera size) from an ideal image (CV_32F, ideal size), bilinear
+  /// (AVX2 when the CPU has it; both paths give the same result).
   void distort(const cv::Mat& ideal, cv::Mat& image) const;
   /// Where each camera pixel lands in the ideal image (CV_32FC2: x, y).
   const cv::Mat& ideal_coordinates() const { return ideal_xy_; }
@@ -26,7 +30,10 @@ class LensModel {
  private:
   IdealView view_;
   cv::Mat ideal_xy_, bearings_;
-  cv::Mat map_fixed_, map_frac_;  // cv::remap's fixed-point form of ideal_xy_
+  // Bilinear taps per camera pixel: top-left ideal pixel index and the fractions.
+  std::vector<int32_t> tap_index_;
+  std::vector<float> tap_fx_, tap_fy_;
+  bool avx2_ = false;
 };
 
 }  // namespace pllvo::synth
