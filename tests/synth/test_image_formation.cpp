@@ -61,6 +61,7 @@ TEST(SynthImageFormation, NormalLightingIsWellExposedWithModestNoise) {
   EXPECT_GT(m, 60);
   EXPECT_LT(m, 170);
   const NoiseStats n = noise_stats(gen, 0);
+  std::printf("normal: mean %.1f DN, noise %.2f DN (model %.2f)\n", m, n.measured, n.predicted);
   EXPECT_NEAR(n.measured / n.predicted, 1.0, 0.1);
   EXPECT_GT(n.measured, 0.8);
   EXPECT_LT(n.measured, 4.0);
@@ -77,6 +78,8 @@ TEST(SynthImageFormation, LowLightIsDarkAndNoisy) {
   EXPECT_DOUBLE_EQ(fl.exposure.exposure_ms, low.spec().sensor.max_exposure_ms);
   EXPECT_DOUBLE_EQ(fl.exposure.gain, low.spec().sensor.max_gain);
   const NoiseStats nn = noise_stats(normal, 0), nl = noise_stats(low, 0);
+  std::printf("low light: mean %.1f DN, noise %.2f DN (model %.2f), exposure %.1f ms, gain %.1f\n", ml, nl.measured,
+              nl.predicted, fl.exposure.exposure_ms, fl.exposure.gain);
   EXPECT_NEAR(nl.measured / nl.predicted, 1.0, 0.1);
   // Relative noise (noise over signal) is several times that of normal light.
   EXPECT_GT((nl.measured / ml) / (nn.measured / mn), 3.0);
@@ -97,6 +100,7 @@ TEST(SynthImageFormation, FlickerModulatesBrightnessFrameToFrame) {
     for (double x : v) s += (x - m) * (x - m);
     return std::sqrt(s / v.size()) / m;
   };
+  std::printf("flicker: frame brightness varies %.1f%% (normal %.2f%%)\n", 100 * rel_std(mf), 100 * rel_std(mn));
   EXPECT_GT(rel_std(mf), 0.1);
   EXPECT_LT(rel_std(mn), 0.01);
   // The light level reported per frame explains the brightness.
@@ -131,6 +135,7 @@ TEST(SynthImageFormation, LightOffDarkensThenAutoExposureRecoversWithNoise) {
   const size_t before = 55, right_after = 61, late = gen.num_frames() - 1;
   const RenderedFrame f0 = gen.render(before), f1 = gen.render(right_after), f2 = gen.render(late);
   const double m0 = mean_of(f0.cameras[0].image), m1 = mean_of(f1.cameras[0].image), m2 = mean_of(f2.cameras[0].image);
+  std::printf("light off: mean %.1f -> %.1f -> %.1f DN (gain %.2f at the end)\n", m0, m1, m2, f2.exposure.gain);
   EXPECT_LT(m1, 0.35 * m0);
   EXPECT_GT(m2, 2.0 * m1);               // auto exposure brings it back up...
   EXPECT_GT(f2.exposure.gain, 1.5);      // ...with gain, so the image is noisier

@@ -26,7 +26,10 @@ std::string number(double v) {
 
 std::string list(const std::vector<double>& values) {
   std::string s = "[";
-  for (size_t i = 0; i < values.size(); ++i) s += (i ? ", " : "") + number(values[i]);
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (i) s += ", ";
+    s += number(values[i]);
+  }
   return s + "]";
 }
 
@@ -34,7 +37,10 @@ std::string T_BS_yaml(const Eigen::Isometry3d& T) {
   std::string s = "T_BS:\n  cols: 4\n  rows: 4\n  data: [";
   for (int r = 0; r < 4; ++r) {
     if (r) s += ",\n         ";
-    for (int c = 0; c < 4; ++c) s += (c ? ", " : "") + number(T.matrix()(r, c));
+    for (int c = 0; c < 4; ++c) {
+      if (c) s += ", ";
+      s += number(T.matrix()(r, c));
+    }
   }
   return s + "]\n";
 }
@@ -148,12 +154,12 @@ void EurocWriter::add_ground_truth(const EurocGroundTruth& g) {
   q.normalize();
   if (q.w() < 0) q.coeffs() *= -1;
   const Eigen::Vector3d& p = g.T_world_body.translation();
-  std::string line = std::to_string(g.stamp_ns);
-  for (double v : {p.x(), p.y(), p.z()}) line += "," + fixed(v, 9);
-  for (double v : {q.w(), q.x(), q.y(), q.z()}) line += "," + fixed(v, 12);
+  gt_csv_ << g.stamp_ns;
+  for (double v : {p.x(), p.y(), p.z()}) gt_csv_ << ',' << fixed(v, 9);
+  for (double v : {q.w(), q.x(), q.y(), q.z()}) gt_csv_ << ',' << fixed(v, 12);
   for (const auto* vec : {&g.velocity, &g.gyro_bias, &g.accel_bias})
-    for (int k = 0; k < 3; ++k) line += "," + fixed((*vec)[k], 9);
-  gt_csv_ << line << "\n";
+    for (int k = 0; k < 3; ++k) gt_csv_ << ',' << fixed((*vec)[k], 9);
+  gt_csv_ << '\n';
 }
 
 void EurocWriter::commit() {
