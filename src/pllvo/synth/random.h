@@ -2,7 +2,6 @@
 // A small deterministic random source for the generator. Its output depends only on the
 // seed (no global state, no standard-library distributions whose results differ between
 // implementations), so a sequence renders to the same bytes everywhere.
-#include <cmath>
 #include <cstdint>
 
 namespace pllvo::synth {
@@ -40,11 +39,6 @@ class Random {
   }
   bool chance(double p) { return uniform() < p; }
   double sign() { return (next() & 1) ? 1.0 : -1.0; }
-  /// Standard normal (Box-Muller; one value per call keeps the stream simple).
-  double normal() {
-    const double u1 = 1.0 - uniform(), u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
-  }
 
  private:
   uint64_t state_;
