@@ -9,5 +9,6 @@ void add_eval_command(CLI::App& app);
 void add_info_command(CLI::App& app);
 void add_lines_eval_command(CLI::App& app);
 void add_run_command(CLI::App& app);
+void add_synth_command(CLI::App& app);
 
 }  // namespace pllvo::cli

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   pllvo::cli::add_info_command(app);
   pllvo::cli::add_lines_eval_command(app);
   pllvo::cli::add_run_command(app);
+  pllvo::cli::add_synth_command(app);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,39 @@
+#pragma once
+// The path from the ideal pinhole rendering to the camera's pixels: an ideal view large
+// enough for the lens's whole field, a remap table built from the camera model (each
+// camera pixel samples the ideal image where its ray lands), and per-pixel bearings.
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "pllvo/camera/camera_model.h"
+#include "pllvo/synth/rasterizer.h"
+
+namespace pllvo::synth {
+
+class LensModel {
+ public:
+  /// Unprojects every camera pixel once (Newton per pixel); InternalError when the model
+  /// cannot be inverted somewhere in the image.
+  explicit LensModel(const camera::CameraModel& camera);
+
+  const IdealView& ideal_view() const { return view_; }
+  /// Camera image (CV_32F, camera size) from an ideal image (CV_32F, ideal size), bilinear
+  /// (AVX2 when the CPU has it; both paths give the same result).
+  void distort(const cv::Mat& ideal, cv::Mat& image) const;
+  /// Where each camera pixel lands in the ideal image (CV_32FC2: x, y).
+  const cv::Mat& ideal_coordinates() const { return ideal_xy_; }
+  /// Unit bearing of each camera pixel in the camera frame (CV_32FC3).
+  const cv::Mat& bearings() const { return bearings_; }
+
+ private:
+  IdealView view_;
+  cv::Mat ideal_xy_, bearings_;
+  // Bilinear taps per camera pixel: top-left ideal pixel index and the fractions.
+  std::vector<int32_t> tap_index_;
+  std::vector<float> tap_fx_, tap_fy_;
+  bool avx2_ = false;
+};
+
+}  // namespace pllvo::synth
