@@ -1,0 +1,99 @@
+"""The training loop shared by the two training stages: resumable checkpoints (model, optimiser, step,
+configuration), a CSV log, a wall-clock budget, and per-step random generators so that a resumed run
+draws the same data as an uninterrupted one."""
+import csv
+import json
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+import torch
+
+
+class Checkpoint:
+    def __init__(self, directory):
+        self.directory = Path(directory)
+        self.path = self.directory / "checkpoint.pt"
+
+    def exists(self):
+        return self.path.is_file()
+
+    def load(self):
+        return torch.load(self.path, map_location="cpu")
+
+    def is_finished(self):
+        return self.exists() and self.load().get("finished", False)
+
+    def save(self, state):
+        self.directory.mkdir(parents=True, exist_ok=True)
+        tmp = self.path.with_name("checkpoint.pt.tmp")
+        torch.save(state, tmp)
+        os.replace(tmp, self.path)
+
+
+def step_rng(seed, stage, step, fixed):
+    """The generator for one step's data: a function of (seed, stage, step) only, so resume is exact."""
+    return np.random.default_rng([seed, stage, 0 if fixed else step])
+
+
+def run(stage_name, stage_id, model, steps, lr, compute_losses, out_dir, config_json, seed, fixed, device,
+        checkpoint_every=100, log_every=10, max_minutes=0.0, extra_state=None, log=print):
+    """Optimises `model` with Adam for `steps` steps from wherever the checkpoint in out_dir left off.
+
+    compute_losses(rng) -> dict of named scalar tensors whose "total" is minimised.
+    Returns the list of logged rows (dicts). Stops early, with a checkpoint, when max_minutes is spent.
+    """
+    out_dir = Path(out_dir)
+    checkpoint = Checkpoint(out_dir)
+    optimizer = torch.optim.Adam(model.parameters(), lr=lr, betas=(0.9, 0.999))
+    step, elapsed = 0, 0.0
+    if checkpoint.exists():
+        state = checkpoint.load()
+        model.load_state_dict(state["model"])
+        optimizer.load_state_dict(state["optimizer"])
+        step, elapsed = state["step"], state.get("elapsed_s", 0.0)
+        log(f"[{stage_name}] resuming at step {step}/{steps}")
+    rows, window, started = [], [], time.time()
+    log_path = out_dir / "log.csv"
+
+    def save(finished):
+        state = {"model": model.state_dict(), "optimizer": optimizer.state_dict(), "step": step,
+                 "elapsed_s": elapsed + time.time() - started, "finished": finished, "stage": stage_name,
+                 "config": json.loads(config_json), "device": str(device)}
+        state.update(extra_state or {})
+        checkpoint.save(state)
+
+    model.train()
+    while step < steps:
+        losses = compute_losses(step_rng(seed, stage_id, step, fixed))
+        optimizer.zero_grad(set_to_none=True)
+        losses["total"].backward()
+        optimizer.step()
+        step += 1
+        window.append({k: float(v) for k, v in losses.items()})
+        if step % log_every == 0 or step == steps:
+            row = {"step": step, "time_s": round(elapsed + time.time() - started, 1)}
+            row.update({k: round(float(np.mean([w[k] for w in window])), 5) for k in window[0]})
+            window = []
+            rows.append(row)
+            _append_csv(log_path, row)
+            log(f"[{stage_name}] " + " ".join(f"{k}={v}" for k, v in row.items()))
+        if step % checkpoint_every == 0 and step < steps:
+            save(False)
+        if max_minutes and (time.time() - started) / 60 > max_minutes and step < steps:
+            save(False)
+            log(f"[{stage_name}] time budget of {max_minutes} min spent at step {step}; rerun to resume")
+            return rows
+    save(True)
+    return rows
+
+
+def _append_csv(path, row):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    new = not path.exists()
+    with open(path, "a", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(row))
+        if new:
+            writer.writeheader()
+        writer.writerow(row)
