@@ -24,7 +24,7 @@ class ShapesConfig:
     height: int = 120
     width: int = 160
     batch: int = 16
-    steps: int = 1500
+    steps: int = 2500
     lr: float = 1e-3
     photometric: PhotometricParams = field(default_factory=lambda: PhotometricParams(p_dark=0.2, dark=DarkeningParams()))
     fixed_data: bool = False       # the same batch every step (smoke test: checks that the loss can decrease)
@@ -48,7 +48,7 @@ class JointConfig:
     height: int = 120
     width: int = 160
     batch: int = 4                 # image pairs per step
-    steps: int = 3000
+    steps: int = 4000
     lr: float = 1e-3
     lambda_loss: float = 1e-4      # weight of the descriptor loss (paper: 0.0001)
     descriptor: DescriptorLossParams = field(default_factory=DescriptorLossParams)

@@ -17,7 +17,7 @@ import torch
 from superpoint import data_sources
 from superpoint.homographies import sample_homography, warp_batch
 from superpoint.keypoints import extract_keypoints, heatmap_from_logits
-from superpoint.network import build_superpoint, load_weights
+from superpoint.network import build_superpoint, load_weights, read_weights
 
 STAGE_ID = 2
 
@@ -66,7 +66,12 @@ def pseudo_labels(model, image, rng, cfg, device):
 
 
 def weights_fingerprint(path):
-    return hashlib.sha1(Path(path).read_bytes()).hexdigest()[:12]
+    """Hash of the detector's weights (not of the file, which also holds optimiser state and times)."""
+    digest = hashlib.sha1()
+    for name, tensor in sorted(read_weights(path).items()):
+        digest.update(name.encode())
+        digest.update(tensor.numpy().tobytes())
+    return digest.hexdigest()[:12]
 
 
 def labels_dir(out_dir, detector_weights):

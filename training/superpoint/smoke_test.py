@@ -135,6 +135,8 @@ def test_pipeline(tmp):
     pipeline.run(config, out, device, log=logs.append)
     after = read_weights(out / "joint" / "checkpoint.pt")
     check(all(torch.equal(before[k], after[k]) for k in before), "rerunning a finished run resumes and trains nothing more")
+    folders = list((out / "adaptation").glob("labels_*"))
+    check(len(folders) == 1, f"rerunning reuses the cached pseudo labels ({len(folders)} label folders)")
 
 
 def main():

@@ -53,6 +53,9 @@ def run(stage_name, stage_id, model, steps, lr, compute_losses, out_dir, config_
         model.load_state_dict(state["model"])
         optimizer.load_state_dict(state["optimizer"])
         step, elapsed = state["step"], state.get("elapsed_s", 0.0)
+        if state.get("finished") and step >= steps:
+            log(f"[{stage_name}] already finished ({step} steps)")
+            return []
         log(f"[{stage_name}] resuming at step {step}/{steps}")
     rows, window, started = [], [], time.time()
     log_path = out_dir / "log.csv"
