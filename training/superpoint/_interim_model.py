@@ -1,8 +1,8 @@
 """Stand-in for training/pllvo_nets/superpoint.py until the nn branch lands on main.
 
 Same architecture and state-dict names as the official SuperPoint (conv1a.weight ... convDb.bias),
-and the interface the training code is written against: forward([B,1,H,W] in [0,1]) returns the raw
-detector logits [B,65,H/8,W/8] and the raw (not normalised) descriptor map [B,256,H/8,W/8].
+and the entry point the training code uses, as in pllvo_nets.superpoint: dense([B,1,H,W] in [0,1]) returns
+the raw detector logits [B,65,H/8,W/8] and the raw (not normalised) descriptor map [B,256,H/8,W/8].
 Delete this file once pllvo_nets.superpoint is merged; network.py prefers that module already.
 """
 import torch
@@ -22,7 +22,7 @@ class SuperPoint(nn.Module):
         self.convDa = nn.Conv2d(128, 256, 3, padding=1)
         self.convDb = nn.Conv2d(256, 256, 1)
 
-    def forward(self, image: torch.Tensor):
+    def dense(self, image: torch.Tensor):
         x = image
         for i, (name, _, _) in enumerate(self._ENCODER):
             x = torch.relu(getattr(self, name)(x))

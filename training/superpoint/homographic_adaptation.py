@@ -36,7 +36,7 @@ def aggregate_heatmap(model, image, homographies, batch, valid_margin):
     for start in range(0, len(homographies), batch):
         H = homographies[start:start + batch].to(device)
         warped = warp_batch(image[None, None].expand(len(H), 1, height, width), H)
-        logits, _ = model(warped)
+        logits, _ = model.dense(warped)
         heat = heatmap_from_logits(logits)[:, None]
         back = warp_batch(heat, torch.linalg.inv(H))[:, 0]
         # A source pixel counts for a homography when it lands inside that warped image, off its border.

@@ -13,12 +13,22 @@ def heatmap_from_logits(logits):
     return F.pixel_shuffle(prob, CELL)[:, 0]
 
 
+def _window_max(values, radius):
+    return F.max_pool2d(values[:, None], 2 * radius + 1, stride=1, padding=radius)[:, 0]
+
+
 def nms(heatmap, radius):
-    """Keeps the local maxima of a [B,H,W] map over a (2r+1)^2 window, zeroes the rest."""
+    """Keeps the local maxima of a [B,H,W] map over a (2r+1)^2 window, zeroes the rest. As in the official
+    post-processing, a point whose window maximum was itself suppressed by a stronger neighbour gets a
+    second chance (two rounds), so that suppression does not cascade."""
     if radius <= 0:
         return heatmap
-    peak = F.max_pool2d(heatmap[:, None], 2 * radius + 1, stride=1, padding=radius)[:, 0]
-    return torch.where(heatmap == peak, heatmap, torch.zeros_like(heatmap))
+    keep = heatmap == _window_max(heatmap, radius)
+    for _ in range(2):
+        covered = _window_max(keep.float(), radius) > 0
+        remaining = torch.where(covered, torch.zeros_like(heatmap), heatmap)
+        keep = keep | ((remaining == _window_max(remaining, radius)) & ~covered)
+    return torch.where(keep, heatmap, torch.zeros_like(heatmap))
 
 
 def extract_keypoints(heatmap, threshold=0.005, nms_radius=4, border=4, top_k=None):
@@ -42,12 +52,13 @@ def extract_keypoints(heatmap, threshold=0.005, nms_radius=4, border=4, top_k=No
 
 
 def sample_descriptors(descriptor_map, xy):
-    """Bilinear interpolation of a [256,Hc,Wc] map at pixel positions xy [N,2] (pixel centres at integer
-    coordinates, cell (i, j) centred on pixel (8j + 3.5, 8i + 3.5)); unit-length [N,256]."""
+    """Bilinear interpolation of the L2-normalised [256,Hc,Wc] map at pixel positions xy [N,2]; unit-length
+    [N,256]. Official convention (SuperPoint / SuperGlue code, kept by pllvo's C++ port): pixel x maps to
+    cell coordinate (x - 3.5) / (8 Wc - 4.5) * (Wc - 1), so pixel 3.5 is cell 0 and the last pixel the last cell."""
     channels, hc, wc = descriptor_map.shape
-    gx = (xy[:, 0] - (CELL - 1) / 2) / CELL
-    gy = (xy[:, 1] - (CELL - 1) / 2) / CELL
-    grid = torch.stack([2 * gx / max(wc - 1, 1) - 1, 2 * gy / max(hc - 1, 1) - 1], dim=1)
+    descriptor_map = F.normalize(descriptor_map, dim=0)
+    span = torch.tensor([CELL * wc - CELL / 2 - 0.5, CELL * hc - CELL / 2 - 0.5], dtype=xy.dtype, device=xy.device)
+    grid = (xy - CELL / 2 + 0.5) / span * 2 - 1
     sampled = F.grid_sample(descriptor_map[None], grid[None, None], mode="bilinear", align_corners=True)
     return F.normalize(sampled[0, :, 0].t(), dim=1)
 
@@ -56,7 +67,7 @@ def sample_descriptors(descriptor_map, xy):
 def detect_and_describe(model, image, threshold=0.005, nms_radius=4, border=4, top_k=None):
     """One [H,W] float image in [0,1] -> (xy [N,2], scores [N], descriptors [N,256]) on the CPU."""
     device = next(model.parameters()).device
-    logits, descriptors = model(image[None, None].to(device))
+    logits, descriptors = model.dense(image[None, None].to(device))
     heat = heatmap_from_logits(logits)
     (xy, scores), = extract_keypoints(heat, threshold, nms_radius, border, top_k)
     desc = sample_descriptors(descriptors[0], xy)

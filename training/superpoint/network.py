@@ -2,8 +2,8 @@
 
 The architecture comes from training/pllvo_nets/superpoint.py (the nn module, validated against the
 official test vectors) when it is importable, otherwise from the interim stand-in with the same names.
-Both take a [B,1,H,W] float image in [0,1] and return (raw detector logits [B,65,H/8,W/8],
-raw descriptor map [B,256,H/8,W/8]).
+Training uses their `dense` method: a [B,1,H,W] float image in [0,1] -> (raw detector logits
+[B,65,H/8,W/8], raw descriptor map [B,256,H/8,W/8]).
 """
 import math
 import sys

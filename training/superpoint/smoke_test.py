@@ -84,9 +84,10 @@ def test_losses_and_decoding():
     (xy, _), = extract_keypoints(heat, 0.5, 1, 0)
     check(xy.tolist() == [[2.0, 9.0]], f"decoding: channel 10 of cell (1,0) is pixel (x=2, y=9) ({xy.tolist()})")
     d = torch.randn(1, 256, 3, 4)
-    check(torch.allclose(sample_descriptors(d[0], torch.tensor([[8 * 2 + 3.5, 8 * 1 + 3.5]]))[0],
-                         torch.nn.functional.normalize(d[0, :, 1, 2], dim=0), atol=1e-5),
-          "descriptor sampling at a cell centre returns that cell's descriptor")
+    corners = sample_descriptors(d[0], torch.tensor([[3.5, 3.5], [31.0, 23.0]]))
+    check(torch.allclose(corners[0], torch.nn.functional.normalize(d[0, :, 0, 0], dim=0), atol=1e-5) and
+          torch.allclose(corners[1], torch.nn.functional.normalize(d[0, :, 2, 3], dim=0), atol=1e-5),
+          "descriptor sampling: pixel 3.5 reads the first cell, the last pixel the last cell (official convention)")
     same = descriptor_loss(d, d, torch.eye(3)[None])
     other = descriptor_loss(d, torch.roll(d, 1, dims=3), torch.eye(3)[None])
     check(float(same) < float(other), f"descriptor loss prefers matching descriptors ({float(same):.3f} < {float(other):.3f})")
@@ -128,7 +129,7 @@ def test_pipeline(tmp):
     reloaded = build_superpoint(exported).eval()
     x = torch.rand(1, 1, 48, 64)
     with torch.no_grad():
-        a, b = trained(x)[0], reloaded(x)[0]
+        a, b = trained.dense(x)[0], reloaded.dense(x)[0]
     check(torch.allclose(a, b, atol=0.05, rtol=0.01), f"exported weights reproduce the checkpoint (max diff {float((a - b).abs().max()):.4f})")
     # Resume: rerunning a finished pipeline changes nothing and trains no further step.
     before = read_weights(out / "joint" / "checkpoint.pt")

@@ -78,7 +78,7 @@ def train(config, out_dir, device, labels_folder, max_minutes=0.0, log=print):
 
     def compute_losses(rng):
         image1, labels1, image2, labels2, valid2, H = (t.to(device) for t in pairs.batch(rng))
-        logits, descriptors = model(torch.cat([image1, image2]))
+        logits, descriptors = model.dense(torch.cat([image1, image2]))
         b = image1.shape[0]
         det1 = detector_loss(logits[:b], labels1)
         det2 = detector_loss(logits[b:], labels2, valid2)

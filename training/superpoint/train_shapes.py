@@ -33,7 +33,7 @@ def train(config, out_dir, device, max_minutes=0.0, log=print):
 
     def compute_losses(rng):
         images, labels = shapes_batch(rng, cfg)
-        logits, _ = model(images.to(device))
+        logits, _ = model.dense(images.to(device))
         loss = detector_loss(logits, labels.to(device))
         return {"total": loss, "detector": loss}
 
