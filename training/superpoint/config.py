@@ -64,6 +64,7 @@ class TrainConfig:
     seed: int = 0
     checkpoint_every: int = 100
     log_every: int = 10
+    workers: int = 0               # processes making batches (0: in the training process)
     shapes: ShapesConfig = field(default_factory=ShapesConfig)
     adaptation: AdaptationConfig = field(default_factory=AdaptationConfig)
     joint: JointConfig = field(default_factory=JointConfig)
@@ -77,6 +78,7 @@ def preset(name):
     if name == "gpu":
         config.checkpoint_every = 1000
         config.log_every = 100
+        config.workers = 8
         config.shapes.batch, config.shapes.steps = 64, 60000
         config.adaptation.homographies, config.adaptation.batch = 100, 50
         config.joint.height, config.joint.width = 240, 320

@@ -20,7 +20,7 @@ import cv2
 import numpy as np
 import torch
 
-from superpoint import cli, pipeline, synthetic_shapes
+from superpoint import cli, pipeline, synthetic_shapes, train_shapes
 from superpoint.config import build_config
 from superpoint.homographies import HomographyParams, sample_homography, warp_batch, warp_image, warp_points
 from superpoint.keypoints import extract_keypoints, heatmap_from_logits, sample_descriptors
@@ -140,6 +140,20 @@ def test_pipeline(tmp):
     check(len(folders) == 1, f"rerunning reuses the cached pseudo labels ({len(folders)} label folders)")
 
 
+def test_resume(tmp):
+    """A run stopped after 10 steps and resumed to 20 logs the same losses as an uninterrupted one."""
+    def shapes_log(folder, *steps):
+        for n in steps:
+            args = cli.parser("smoke").parse_args(["--preset", "smoke", "--out", str(folder), "--threads", "1",
+                                                    "--set", "shapes.fixed_data=False", "--set", f"shapes.steps={n}"])
+            config, out, device = cli.setup(args)
+            train_shapes.train(config, out, device, log=lambda _: None)
+        rows = [line.split(",") for line in (folder / "shapes" / "log.csv").read_text().split()]
+        return [row[:1] + row[2:] for row in rows]          # without the time column
+    resumed, straight = shapes_log(tmp / "resumed", 10, 20), shapes_log(tmp / "straight", 20)
+    check(resumed == straight, "resumed training reproduces the uninterrupted run's losses exactly")
+
+
 def main():
     torch.manual_seed(0)
     test_labels()
@@ -147,6 +161,7 @@ def main():
     test_losses_and_decoding()
     with tempfile.TemporaryDirectory(prefix="sptrain_smoke_") as tmp:
         test_pipeline(Path(tmp))
+        test_resume(Path(tmp))
     print(f"smoke test: {'FAILED: ' + '; '.join(FAILURES) if FAILURES else 'all checks passed'}")
     return 1 if FAILURES else 0
 

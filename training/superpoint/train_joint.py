@@ -76,8 +76,8 @@ def train(config, out_dir, device, labels_folder, max_minutes=0.0, log=print):
     pairs = PairSource(config, labels_folder)
     log(f"[joint] {len(pairs.items)} crops from {data_sources.summary(pairs.items)}")
 
-    def compute_losses(rng):
-        image1, labels1, image2, labels2, valid2, H = (t.to(device) for t in pairs.batch(rng))
+    def compute_losses(batch):
+        image1, labels1, image2, labels2, valid2, H = (t.to(device) for t in batch)
         logits, descriptors = model.dense(torch.cat([image1, image2]))
         b = image1.shape[0]
         det1 = detector_loss(logits[:b], labels1)
@@ -86,9 +86,9 @@ def train(config, out_dir, device, labels_folder, max_minutes=0.0, log=print):
         return {"total": det1 + det2 + cfg.lambda_loss * desc, "detector": (det1 + det2) / 2, "descriptor": desc}
 
     extra = {"data": data_sources.summary(pairs.items), "labels": str(labels_folder)}
-    return trainer.run("joint", STAGE_ID, model, cfg.steps, cfg.lr, compute_losses, out_dir / "joint",
+    return trainer.run("joint", STAGE_ID, model, cfg.steps, cfg.lr, pairs.batch, compute_losses, out_dir / "joint",
                        to_json(config), config.seed, cfg.fixed_data, device, config.checkpoint_every,
-                       config.log_every, max_minutes, extra_state=extra, log=log)
+                       config.log_every, max_minutes, config.workers, extra_state=extra, log=log)
 
 
 def main():

@@ -31,15 +31,18 @@ def train(config, out_dir, device, max_minutes=0.0, log=print):
     cfg = config.shapes
     model = initialise_for_training(build_superpoint(device="cpu"), config.seed).to(device)
 
-    def compute_losses(rng):
-        images, labels = shapes_batch(rng, cfg)
+    def make_batch(rng):
+        return shapes_batch(rng, cfg)
+
+    def compute_losses(batch):
+        images, labels = batch
         logits, _ = model.dense(images.to(device))
         loss = detector_loss(logits, labels.to(device))
         return {"total": loss, "detector": loss}
 
-    return trainer.run("shapes", STAGE_ID, model, cfg.steps, cfg.lr, compute_losses, out_dir / "shapes",
+    return trainer.run("shapes", STAGE_ID, model, cfg.steps, cfg.lr, make_batch, compute_losses, out_dir / "shapes",
                        to_json(config), config.seed, cfg.fixed_data, device, config.checkpoint_every,
-                       config.log_every, max_minutes, log=log)
+                       config.log_every, max_minutes, config.workers, log=log)
 
 
 def main():

@@ -1,6 +1,7 @@
 """The training loop shared by the two training stages: resumable checkpoints (model, optimiser, step,
 configuration), a CSV log, a wall-clock budget, and per-step random generators so that a resumed run
-draws the same data as an uninterrupted one."""
+draws the same data as an uninterrupted one. Batches are made on the CPU, optionally by worker
+processes (a GPU needs them: rendering and warping would otherwise be the bottleneck)."""
 import csv
 import json
 import os
@@ -37,11 +38,37 @@ def step_rng(seed, stage, step, fixed):
     return np.random.default_rng([seed, stage, 0 if fixed else step])
 
 
-def run(stage_name, stage_id, model, steps, lr, compute_losses, out_dir, config_json, seed, fixed, device,
-        checkpoint_every=100, log_every=10, max_minutes=0.0, extra_state=None, log=print):
+class StepBatches(torch.utils.data.Dataset):
+    """Batch i is make_batch(rng of step start + i): the same batches whichever process makes them."""
+
+    def __init__(self, make_batch, seed, stage, fixed, start, stop):
+        self.make_batch, self.seed, self.stage, self.fixed, self.start, self.stop = make_batch, seed, stage, fixed, start, stop
+
+    def __len__(self):
+        return max(self.stop - self.start, 0)
+
+    def __getitem__(self, index):
+        return self.make_batch(step_rng(self.seed, self.stage, self.start + index, self.fixed))
+
+
+def _batches(make_batch, seed, stage, fixed, start, stop, workers):
+    dataset = StepBatches(make_batch, seed, stage, fixed, start, stop)
+    if workers <= 0:
+        return (dataset[i] for i in range(len(dataset)))
+    return iter(torch.utils.data.DataLoader(dataset, batch_size=None, shuffle=False, num_workers=workers,
+                                            prefetch_factor=4, worker_init_fn=_quiet_worker))
+
+
+def _quiet_worker(_):
+    torch.set_num_threads(1)
+
+
+def run(stage_name, stage_id, model, steps, lr, make_batch, compute_losses, out_dir, config_json, seed, fixed, device,
+        checkpoint_every=100, log_every=10, max_minutes=0.0, workers=0, extra_state=None, log=print):
     """Optimises `model` with Adam for `steps` steps from wherever the checkpoint in out_dir left off.
 
-    compute_losses(rng) -> dict of named scalar tensors whose "total" is minimised.
+    make_batch(rng) -> CPU tensors (runs in worker processes when workers > 0);
+    compute_losses(batch) -> dict of named scalar tensors whose "total" is minimised.
     Returns the list of logged rows (dicts). Stops early, with a checkpoint, when max_minutes is spent.
     """
     out_dir = Path(out_dir)
@@ -68,8 +95,8 @@ def run(stage_name, stage_id, model, steps, lr, compute_losses, out_dir, config_
         checkpoint.save(state)
 
     model.train()
-    while step < steps:
-        losses = compute_losses(step_rng(seed, stage_id, step, fixed))
+    for batch in _batches(make_batch, seed, stage_id, fixed, step, steps, workers):
+        losses = compute_losses(batch)
         optimizer.zero_grad(set_to_none=True)
         losses["total"].backward()
         optimizer.step()
