@@ -129,8 +129,11 @@ def test_pipeline(tmp):
     reloaded = build_superpoint(exported).eval()
     x = torch.rand(1, 1, 48, 64)
     with torch.no_grad():
-        a, b = trained.dense(x)[0], reloaded.dense(x)[0]
-    check(torch.allclose(a, b, atol=0.05, rtol=0.01), f"exported weights reproduce the checkpoint (max diff {float((a - b).abs().max()):.4f})")
+        (la, da), (lb, db) = trained.dense(x), reloaded.dense(x)
+    prob = float((heatmap_from_logits(la) - heatmap_from_logits(lb)).abs().max())
+    desc = float((torch.nn.functional.normalize(da, dim=1) - torch.nn.functional.normalize(db, dim=1)).abs().max())
+    check(prob < 0.01 and desc < 0.01,
+          f"exported fp16 weights reproduce the checkpoint (max diff: probability {prob:.4f}, descriptor {desc:.4f})")
     # Resume: rerunning a finished pipeline changes nothing and trains no further step.
     before = read_weights(out / "joint" / "checkpoint.pt")
     pipeline.run(config, out, device, log=logs.append)
