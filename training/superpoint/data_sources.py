@@ -34,11 +34,12 @@ class DataConfig:
     ecd_first_frame: int = 55      # frames before ~50 are nearly black
     ecd_every: int = 2
     ecd_crops: int = 1
-    photo_crops: int = 24          # Debian photographs are large: many crops at several scales each
+    photo_crops: int = 12          # Debian photographs are large: several crops at several scales each
     synth_frames_per_dir: int = 200
     synth_crops: int = 1
     extra_crops: int = 2
     min_crop_scale: float = 0.5    # crop side relative to the largest crop of the training aspect that fits
+    photo_crop_scale: tuple = (0.15, 0.6)  # the photographs are 2560 px wide: finer crops keep their detail
     synth_dirs: list = field(default_factory=list)
     image_dirs: list = field(default_factory=list)
     use_shared: bool = True
@@ -115,8 +116,9 @@ def make_items(config, height, width, seed=0):
         for path in paths:
             h, w = _image_size(path)
             full_h = min(h, w / aspect)
+            low, high = config.photo_crop_scale if source.startswith("debian") else (config.min_crop_scale, 1.0)
             for _ in range(count):
-                crop_h = full_h * (rng.uniform(config.min_crop_scale, 1.0) if count > 1 else 1.0)
+                crop_h = full_h * (rng.uniform(low, high) if count > 1 else 1.0)
                 crop_w = crop_h * aspect
                 x0 = rng.uniform(0, w - crop_w)
                 y0 = rng.uniform(0, h - crop_h)
