@@ -56,7 +56,7 @@ def resize_gray(path, width, height):
     return cv2.resize(data_sources.load_gray(path), (width, height), interpolation=cv2.INTER_AREA)
 
 
-def homography_benchmark(extractors, images, pairs_per_image, size, conditions, seed, log):
+def homography_benchmark(extractors, images, pairs_per_image, size, conditions, seed, log, repeatability_keypoints=300):
     height, width = size
     rows = {(name, c): [] for name in extractors for c in conditions}
     for index, path in enumerate(images):
@@ -76,7 +76,11 @@ def homography_benchmark(extractors, images, pairs_per_image, size, conditions, 
                     error = eval_metrics.corner_error(H, H_est, (height, width)) if H_est is not None else float("inf")
                     rows[(name, condition)].append({
                         "image": Path(path).name, "pair": k, "keypoints": (len(xy1) + len(xy2)) / 2,
-                        "repeatability": eval_metrics.repeatability(xy1, xy2, H, (height, width), (height, width)),
+                        # Repeatability depends on point density: compare equal budgets (the strongest
+                        # `repeatability_keypoints` of each method, as the SuperPoint paper's 300).
+                        "repeatability": eval_metrics.repeatability(xy1[:repeatability_keypoints], xy2[:repeatability_keypoints],
+                                                                    H, (height, width), (height, width)),
+                        "repeatability_all": eval_metrics.repeatability(xy1, xy2, H, (height, width), (height, width)),
                         "matches": len(matches), "match_precision": eval_metrics.match_precision(xy1, xy2, matches, H),
                         "corner_error": error})
         log(f"[homography] {index + 1}/{len(images)} images")
@@ -84,8 +88,10 @@ def homography_benchmark(extractors, images, pairs_per_image, size, conditions, 
     for (name, condition), values in rows.items():
         errors = np.array([v["corner_error"] for v in values])
         reps = [v["repeatability"] for v in values if v["repeatability"] is not None]
+        reps_all = [v["repeatability_all"] for v in values if v["repeatability_all"] is not None]
         summary[f"{name}/{condition}"] = {
             "pairs": len(values), "repeatability@3": float(np.mean(reps)) if reps else 0.0,
+            "repeatability_all@3": float(np.mean(reps_all)) if reps_all else 0.0,
             "H@1": float((errors <= 1).mean()), "H@3": float((errors <= 3).mean()), "H@5": float((errors <= 5).mean()),
             "keypoints": float(np.mean([v["keypoints"] for v in values])),
             "matches": float(np.mean([v["matches"] for v in values])),
@@ -128,13 +134,13 @@ def pose_benchmark(extractors, size, conditions, seed, log):
 
 
 def markdown(homography, pose, extractors, conditions):
-    lines = ["| method | light | repeatability@3px | H corr. @1px | @3px | @5px | keypoints | MNN matches | match precision@3px | pose AUC@5 | @10 | @20 |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| method | light | repeatability@3px (best 300) | (all points) | H corr. @1px | @3px | @5px | keypoints | MNN matches | match precision@3px | pose AUC@5 | @10 | @20 |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for condition in conditions:
         for name in extractors:
             h = homography.get(f"{name}/{condition}", {})
             p = pose.get(f"{name}/{condition}", {})
-            cells = [f"{h[k]:.3f}" if k in h else "-" for k in ("repeatability@3", "H@1", "H@3", "H@5")]
+            cells = [f"{h[k]:.3f}" if k in h else "-" for k in ("repeatability@3", "repeatability_all@3", "H@1", "H@3", "H@5")]
             cells += [f"{h[k]:.0f}" if k in h else "-" for k in ("keypoints", "matches")]
             cells += [f"{h['match_precision@3']:.3f}" if h else "-"]
             cells += [f"{100 * p[k]:.1f}" if k in p else "-" for k in ("AUC@5", "AUC@10", "AUC@20")]
@@ -148,6 +154,8 @@ def main():
                    help="SuperPoint weights (.safetensors or training checkpoint), repeatable")
     p.add_argument("--max-keypoints", type=int, default=1024, help="keypoint budget of every method")
     p.add_argument("--pairs-per-image", type=int, default=2)
+    p.add_argument("--repeatability-keypoints", type=int, default=300,
+                   help="repeatability compares the strongest N points of every method")
     p.add_argument("--max-images", type=int, default=0, help="0: all 46 held-out images")
     p.add_argument("--size", default="480x640", help="HxW of the homography benchmark images")
     p.add_argument("--pose-size", default="480x640", help="HxW of the ScanNet images")
@@ -171,7 +179,8 @@ def main():
         images = images[:args.max_images]
     started = time.time()
     size = tuple(int(v) for v in args.size.split("x"))
-    homography, rows = homography_benchmark(extractors, images, args.pairs_per_image, size, conditions, args.seed, print)
+    homography, rows = homography_benchmark(extractors, images, args.pairs_per_image, size, conditions, args.seed, print,
+                                            args.repeatability_keypoints)
     pose, pose_errors = ({}, {}) if args.skip_pose else pose_benchmark(
         extractors, tuple(int(v) for v in args.pose_size.split("x")), conditions, args.seed, print)
     table = markdown(homography, pose, extractors, conditions)
