@@ -41,6 +41,7 @@ class AdaptationConfig:
     valid_margin: int = 3          # ignore responses this close to the border of each warped image
     homography: HomographyParams = field(default_factory=lambda: HomographyParams(max_angle=math.pi / 4))
     max_items: int = 0             # 0: all items
+    min_mean_points: float = 5.0   # stop before stage 3 if the crops get fewer pseudo points than this on average
 
 
 @dataclass
@@ -88,7 +89,7 @@ def preset(name):
         config.checkpoint_every = 10
         config.log_every = 5
         config.shapes = ShapesConfig(height=48, width=64, batch=4, steps=40, fixed_data=True)
-        config.adaptation = AdaptationConfig(homographies=6, batch=6, threshold=0.01, max_items=3)
+        config.adaptation = AdaptationConfig(homographies=6, batch=6, threshold=0.01, max_items=3, min_mean_points=0.0)
         config.joint = JointConfig(height=48, width=64, batch=2, steps=40, fixed_data=True)
         return config
     raise ValueError(f"unknown preset {name!r} (cpu-small, gpu, smoke)")

@@ -9,6 +9,7 @@ if __package__ in (None, ""):
     import sys
     sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 
+import json
 import time
 
 from superpoint import homographic_adaptation, train_joint, train_shapes
@@ -32,6 +33,11 @@ def run(config, out, device, max_minutes=0.0, log=print):
     labels = homographic_adaptation.run(config, out, device, out / "shapes" / "checkpoint.pt", deadline, log)
     if labels is None:
         return None
+    mean_points = json.loads((labels / "manifest.json").read_text())["points_per_crop_mean"]
+    if mean_points < config.adaptation.min_mean_points:
+        raise RuntimeError(f"homographic adaptation gave {mean_points:.1f} points per crop on average (minimum "
+                           f"{config.adaptation.min_mean_points}): the stage-1 detector is too weak; train it longer "
+                           f"(--set shapes.steps=...) or lower adaptation.threshold")
     train_joint.train(config, out, device, labels, remaining(), log)
     if not Checkpoint(out / "joint").is_finished():
         return None

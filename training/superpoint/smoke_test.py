@@ -141,6 +141,15 @@ def test_pipeline(tmp):
     check(all(torch.equal(before[k], after[k]) for k in before), "rerunning a finished run resumes and trains nothing more")
     folders = list((out / "adaptation").glob("labels_*"))
     check(len(folders) == 1, f"rerunning reuses the cached pseudo labels ({len(folders)} label folders)")
+    validations = [(out / stage / "validation.csv").read_text().split()[0] for stage in ("shapes", "joint")]
+    check(validations == ["step,precision,recall", "step,repeatability,match_precision"],
+          f"validation measures logged at checkpoints ({validations})")
+    config.adaptation.min_mean_points = 1e6
+    try:
+        pipeline.run(config, out, device, log=logs.append)
+        check(False, "too few pseudo labels stop the pipeline before stage 3")
+    except RuntimeError as error:
+        check("points per crop" in str(error), "too few pseudo labels stop the pipeline before stage 3")
 
 
 def test_resume(tmp):

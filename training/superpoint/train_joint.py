@@ -17,6 +17,7 @@ from superpoint.homographies import inside, sample_homography, warp_image, warp_
 from superpoint.labels import cell_labels, cell_mask
 from superpoint.losses import descriptor_loss, detector_loss
 from superpoint.network import build_superpoint, initialise_for_training, read_weights
+from superpoint.validation import JointValidation
 
 STAGE_ID = 3
 
@@ -88,7 +89,8 @@ def train(config, out_dir, device, labels_folder, max_minutes=0.0, log=print):
     extra = {"data": data_sources.summary(pairs.items), "labels": str(labels_folder)}
     return trainer.run("joint", STAGE_ID, model, cfg.steps, cfg.lr, pairs.batch, compute_losses, out_dir / "joint",
                        to_json(config), config.seed, cfg.fixed_data, device, config.checkpoint_every,
-                       config.log_every, max_minutes, config.workers, extra_state=extra, log=log)
+                       config.log_every, max_minutes, config.workers, extra_state=extra,
+                       validate=JointValidation(pairs, config.seed), log=log)
 
 
 def main():

@@ -12,6 +12,7 @@ from superpoint.config import to_json
 from superpoint.labels import cell_labels
 from superpoint.losses import detector_loss
 from superpoint.network import build_superpoint, initialise_for_training
+from superpoint.validation import ShapesValidation
 
 STAGE_ID = 1
 
@@ -42,7 +43,8 @@ def train(config, out_dir, device, max_minutes=0.0, log=print):
 
     return trainer.run("shapes", STAGE_ID, model, cfg.steps, cfg.lr, make_batch, compute_losses, out_dir / "shapes",
                        to_json(config), config.seed, cfg.fixed_data, device, config.checkpoint_every,
-                       config.log_every, max_minutes, config.workers, log=log)
+                       config.log_every, max_minutes, config.workers, validate=ShapesValidation(cfg, config.seed),
+                       log=log)
 
 
 def main():

@@ -64,11 +64,12 @@ def _quiet_worker(_):
 
 
 def run(stage_name, stage_id, model, steps, lr, make_batch, compute_losses, out_dir, config_json, seed, fixed, device,
-        checkpoint_every=100, log_every=10, max_minutes=0.0, workers=0, extra_state=None, log=print):
+        checkpoint_every=100, log_every=10, max_minutes=0.0, workers=0, extra_state=None, validate=None, log=print):
     """Optimises `model` with Adam for `steps` steps from wherever the checkpoint in out_dir left off.
 
     make_batch(rng) -> CPU tensors (runs in worker processes when workers > 0);
     compute_losses(batch) -> dict of named scalar tensors whose "total" is minimised.
+    validate(model) -> dict of progress measures, logged to validation.csv at every checkpoint.
     Returns the list of logged rows (dicts). Stops early, with a checkpoint, when max_minutes is spent.
     """
     out_dir = Path(out_dir)
@@ -88,6 +89,11 @@ def run(stage_name, stage_id, model, steps, lr, make_batch, compute_losses, out_
     log_path = out_dir / "log.csv"
 
     def save(finished):
+        if validate is not None:
+            row = {"step": step}
+            row.update(validate(model))
+            _append_csv(out_dir / "validation.csv", row)
+            log(f"[{stage_name}] validation " + " ".join(f"{k}={v}" for k, v in row.items()))
         state = {"model": model.state_dict(), "optimizer": optimizer.state_dict(), "step": step,
                  "elapsed_s": elapsed + time.time() - started, "finished": finished, "stage": stage_name,
                  "config": json.loads(config_json), "device": str(device)}
