@@ -85,6 +85,8 @@ def run(stage_name, stage_id, model, steps, lr, make_batch, compute_losses, out_
             log(f"[{stage_name}] already finished ({step} steps)")
             return []
         log(f"[{stage_name}] resuming at step {step}/{steps}")
+        for name in ("log.csv", "validation.csv"):     # rows written after the checkpoint will be redone
+            _truncate_csv(out_dir / name, step)
     rows, window, started = [], [], time.time()
     log_path = out_dir / "log.csv"
 
@@ -123,6 +125,14 @@ def run(stage_name, stage_id, model, steps, lr, make_batch, compute_losses, out_
             return rows
     save(True)
     return rows
+
+
+def _truncate_csv(path, last_step):
+    if not path.exists():
+        return
+    lines = path.read_text().splitlines()
+    kept = lines[:1] + [line for line in lines[1:] if int(float(line.split(",")[0])) <= last_step]
+    path.write_text("\n".join(kept) + "\n")
 
 
 def _append_csv(path, row):
