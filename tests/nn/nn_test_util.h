@@ -2,6 +2,7 @@
 // Helpers shared by the nn tests: fixture paths, comparisons with the reference vectors.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,13 @@ double max_abs_diff_n(const A& a, const B& b, std::size_t n) {
 inline double max_abs_diff(const std::vector<float>& ref, const float* ours, std::size_t n) {
   if (ref.size() != n) return INFINITY;
   return max_abs_diff_n(ref, ours, n);
+}
+
+/// "1.23e-05": for RecordProperty (std::to_string rounds small errors to 0.000000).
+inline std::string sci(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
 }
 
 }  // namespace pllvo::nn::test

@@ -56,8 +56,8 @@ TEST_P(SuperPointDenseVector, ScoreMapAndDescriptorMapMatchOfficialCode) {
       desc_err = std::max(desc_err, std::abs(double(sub[k * cells + cell]) -
                                              dense.descriptors(static_cast<Eigen::Index>(cell), channels[k])));
   EXPECT_LE(desc_err, 1e-4);
-  RecordProperty("scores_dense_max_abs", std::to_string(score_err));
-  RecordProperty("descriptors_dense_max_abs", std::to_string(desc_err));
+  RecordProperty("scores_dense_max_abs", test::sci(score_err));
+  RecordProperty("descriptors_dense_max_abs", test::sci(desc_err));
 }
 
 INSTANTIATE_TEST_SUITE_P(Official, SuperPointDenseVector,
