@@ -189,8 +189,8 @@ TEST(LightGlue, ReleasedCheckpointNamesAreRenamedLikeTheOfficialLoader) {
     std::string n = name;
     for (const char* block : {"self_attn", "cross_attn"}) {
       for (int i = 0; i < 3; ++i) {
-        const std::string from = "transformers." + test::sci(i) + "." + block + ".";
-        if (n.rfind(from, 0) == 0) n = std::string(block) + "." + test::sci(i) + "." + n.substr(from.size());
+        const std::string from = "transformers." + std::to_string(i) + "." + block + ".";
+        if (n.rfind(from, 0) == 0) n = std::string(block) + "." + std::to_string(i) + "." + n.substr(from.size());
       }
     }
     released.set(n, st.at(name));
