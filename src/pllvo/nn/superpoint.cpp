@@ -11,6 +11,7 @@
 #include <ATen/ops/max_pool2d.h>
 #include <ATen/ops/softmax.h>
 #include <c10/core/InferenceMode.h>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "pllvo/common/error.h"
@@ -41,6 +42,25 @@ void SuperPointConfig::validate(const std::filesystem::path& file) const {
   if (!(downscale >= 1.0)) throw InputError(file, "downscale", "must be >= 1");
 }
 
+namespace {
+
+// A `config` JSON in the metadata (written by scripts/convert_weights.py) must agree with the tensors.
+void check_metadata_config(const SafeTensors& st, int descriptor_dim) {
+  const auto it = st.metadata().find("config");
+  if (it == st.metadata().end()) return;
+  nlohmann::json config;
+  try {
+    config = nlohmann::json::parse(it->second);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(st.file(), "__metadata__.config", std::string("malformed JSON: ") + e.what());
+  }
+  if (config.contains("descriptor_dim") && config["descriptor_dim"] != descriptor_dim)
+    throw InputError(st.file(), "__metadata__.config.descriptor_dim",
+                     "says " + config["descriptor_dim"].dump() + " but convDb.weight has " + std::to_string(descriptor_dim) + " rows");
+}
+
+}  // namespace
+
 // The network. Layer names and shapes are those of superpoint_v1.pth.
 struct SuperPoint::Net {
   struct Conv {
@@ -54,6 +74,7 @@ struct SuperPoint::Net {
     const auto& db = st.at("convDb.weight");
     if (db.shape.size() != 4) throw InputError(st.file(), "convDb.weight", "shape " + shape_string(db.shape) + ", expected [D, 256, 1, 1]");
     descriptor_dim = static_cast<int>(db.shape[0]);
+    check_metadata_config(st, descriptor_dim);
     std::set<std::string> expected;
     const auto load = [&](Conv& c, const std::string& name, std::int64_t out, std::int64_t in, std::int64_t k) {
       c.weight = detail::float_tensor(st, name + ".weight", {out, in, k, k});
