@@ -6,5 +6,7 @@
 namespace pllvo::cli {
 
 void add_eval_command(CLI::App& app);
+void add_extract_command(CLI::App& app);
+void add_match_command(CLI::App& app);
 
 }  // namespace pllvo::cli

@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
   app.parse_complete_callback([&] { spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info); });
 
   pllvo::cli::add_eval_command(app);
+  pllvo::cli::add_extract_command(app);
+  pllvo::cli::add_match_command(app);
 
   try {
     app.parse(argc, argv);

@@ -21,6 +21,23 @@ void save_features(const Features& f, const std::filesystem::path& file) {
   out.save(file);
 }
 
+namespace {
+SafeTensors matches_tensors(const Matches& m) {
+  SafeTensors out;
+  const std::int64_t k = m.size();
+  std::vector<std::int64_t> pairs(static_cast<std::size_t>(2 * k));
+  for (std::int64_t i = 0; i < k; ++i) {
+    pairs[2 * i] = m.pairs(i, 0);
+    pairs[2 * i + 1] = m.pairs(i, 1);
+  }
+  out.set_i64("matches", {k, 2}, pairs.data());
+  out.set_f32("scores", {k}, m.scores.data());
+  return out;
+}
+}  // namespace
+
+void save_matches(const Matches& matches, const std::filesystem::path& file) { matches_tensors(matches).save(file); }
+
 Features load_features(const std::filesystem::path& file) {
   const auto st = SafeTensors::load(file);
   const auto& kp = st.at("keypoints");

@@ -38,4 +38,7 @@ void save_features(const Features& features, const std::filesystem::path& file);
 /// InputError naming the file and tensor on a missing tensor or inconsistent shapes.
 Features load_features(const std::filesystem::path& file);
 
+/// Writes `matches` [K,2] I64 (index0, index1) and `scores` [K] F32.
+void save_matches(const Matches& matches, const std::filesystem::path& file);
+
 }  // namespace pllvo::nn

@@ -380,6 +380,32 @@ FilteredMatches filter_matches(const at::Tensor& scores, float threshold) {
 
 // ---------------------------------------------------------------------------------------
 
+void save_lightglue_result(const LightGlueResult& r, const std::filesystem::path& file) {
+  SafeTensors out;
+  const auto ints = [&](const std::string& name, const Eigen::VectorXi& v) {
+    const std::vector<std::int64_t> values(v.data(), v.data() + v.size());
+    out.set_i64(name, {v.size()}, values.data());
+  };
+  const std::int64_t k = r.matches.size();
+  std::vector<std::int64_t> pairs(static_cast<std::size_t>(2 * k));
+  for (std::int64_t i = 0; i < k; ++i) {
+    pairs[2 * i] = r.matches.pairs(i, 0);
+    pairs[2 * i + 1] = r.matches.pairs(i, 1);
+  }
+  out.set_i64("matches", {k, 2}, pairs.data());
+  out.set_f32("scores", {k}, r.matches.scores.data());
+  const std::int64_t stop = r.stop;
+  out.set_i64("stop", {1}, &stop);
+  ints("matches0", r.matches0);
+  ints("matches1", r.matches1);
+  out.set_f32("matching_scores0", {r.matching_scores0.size()}, r.matching_scores0.data());
+  out.set_f32("matching_scores1", {r.matching_scores1.size()}, r.matching_scores1.data());
+  ints("prune0", r.prune0);
+  ints("prune1", r.prune1);
+  out.metadata()["format"] = "pllvo LightGlue matches (names as the official outputs)";
+  out.save(file);
+}
+
 LightGlue::LightGlue(LightGlueConfig config) : config_(std::move(config)) {
   config_.validate();
   const auto search = find_weights(config_.weights, kLightGlueWeights);

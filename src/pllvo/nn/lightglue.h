@@ -93,6 +93,10 @@ class LightGlue {
   std::filesystem::path weights_file_;
 };
 
+/// Writes `matches` [K,2] I64, `scores` [K], `stop` [1] I64, `matches0/1`, `matching_scores0/1`
+/// and `prune0/1` with the names and dtypes of the official outputs (testvectors/lightglue).
+void save_lightglue_result(const LightGlueResult& result, const std::filesystem::path& file);
+
 /// The architecture a weight file holds, from its tensor shapes (InputError when it is not a
 /// LightGlue file or disagrees with its metadata `config`).
 LightGlueArchitecture lightglue_architecture(const SafeTensors& weights);

@@ -40,21 +40,28 @@ MatcherConfig MatcherConfig::from_yaml(const ConfigNode& node) {
   return c;
 }
 
-std::unique_ptr<FeatureMatcher> make_matcher(const MatcherConfig& config, std::string* notice) {
+MatcherConfig resolve_matcher(const MatcherConfig& config, std::string* notice) {
   if (notice) notice->clear();
-  if (config.type == "mnn") return std::make_unique<MnnMatcher>(config.mnn);
+  MatcherConfig resolved = config;
+  if (config.type == "mnn") return resolved;
   if (config.type != "lightglue") throw InputError("matcher type '" + config.type + "' unknown (lightglue or mnn)");
   const auto search = find_weights(config.lightglue.weights, kLightGlueWeights);  // throws for a wrong explicit path
-  if (!search.found) {
-    const std::string message = "LightGlue weights " + search.not_found_message(kLightGlueWeights) +
-                                "; falling back to the mutual-nearest-neighbour matcher (see docs/nn.md for the weights)";
-    spdlog::warn("{}", message);
-    if (notice) *notice = message;
-    return std::make_unique<MnnMatcher>(config.mnn);
+  if (search.found) {
+    resolved.lightglue.weights = *search.found;
+    return resolved;
   }
-  LightGlueConfig lg = config.lightglue;
-  lg.weights = *search.found;
-  return std::make_unique<LightGlueMatcher>(LightGlue(lg));
+  const std::string message = "LightGlue weights " + search.not_found_message(kLightGlueWeights) +
+                              "; falling back to the mutual-nearest-neighbour matcher (see docs/nn.md for the weights)";
+  spdlog::warn("{}", message);
+  if (notice) *notice = message;
+  resolved.type = "mnn";
+  return resolved;
+}
+
+std::unique_ptr<FeatureMatcher> make_matcher(const MatcherConfig& config, std::string* notice) {
+  const MatcherConfig resolved = resolve_matcher(config, notice);
+  if (resolved.type == "mnn") return std::make_unique<MnnMatcher>(resolved.mnn);
+  return std::make_unique<LightGlueMatcher>(LightGlue(resolved.lightglue));
 }
 
 }  // namespace pllvo::nn

@@ -26,10 +26,14 @@ struct MatcherConfig {
   static MatcherConfig from_yaml(const ConfigNode& node);  ///< keys: type, lightglue, mnn
 };
 
-/// The configured matcher. type "lightglue" with no weights found (and no explicit path
-/// configured) logs a warning naming where it looked and returns the MNN matcher; `notice`
-/// receives that message (empty otherwise). An explicitly configured path that does not
+/// Applies the documented fallback: type "lightglue" with no weights found (and no explicit
+/// path configured) becomes "mnn", with a warning logged and returned in `notice`; otherwise
+/// lightglue.weights is set to the file found. An explicitly configured path that does not
 /// exist is an InputError, never a silent fallback.
+MatcherConfig resolve_matcher(const MatcherConfig& config, std::string* notice = nullptr);
+
+/// The configured matcher (after resolve_matcher). type "lightglue" with no weights found (and no explicit path
+/// configured) logs a warning naming where it looked and returns the MNN matcher.
 std::unique_ptr<FeatureMatcher> make_matcher(const MatcherConfig& config, std::string* notice = nullptr);
 
 }  // namespace pllvo::nn
