@@ -31,6 +31,7 @@ void add_extract_command(CLI::App& app) {
   cmd->add_option("--threads", opt->threads, "LibTorch and OpenBLAS threads (default: runtime default)");
   cmd->callback([opt] {
     nn::set_num_threads(opt->threads);
+    nn::keep_freed_memory();
     const cv::Mat image = cv::imread(opt->image, cv::IMREAD_GRAYSCALE);
     if (image.empty()) throw InputError(opt->image, "cannot read the image");
     nn::SuperPointConfig config;

@@ -42,6 +42,7 @@ void add_match_command(CLI::App& app) {
   cmd->add_option("--threads", opt->threads, "LibTorch and OpenBLAS threads (default: runtime default)");
   cmd->callback([opt] {
     nn::set_num_threads(opt->threads);
+    nn::keep_freed_memory();
     const auto f0 = nn::load_features(opt->feats0);
     const auto f1 = nn::load_features(opt->feats1);
     nn::MatcherConfig config;

@@ -9,6 +9,14 @@ namespace pllvo::nn {
 /// n <= 0 keeps the current setting.
 void set_num_threads(int n);
 
+/// Tunes glibc's malloc for repeated inference, process-wide: large blocks come from the
+/// heap instead of fresh mmaps, and freed memory stays in the process. The same activation
+/// sizes recur every frame; by default each large one (oneDNN's and LibTorch's) is a new
+/// mmap whose page faults cost SuperPoint at 752x480 about a third of its time (docs/nn.md).
+/// The price: the process keeps its peak heap. Call once at start-up (the CLI and the
+/// benchmarks do); without it everything still works, only slower.
+void keep_freed_memory();
+
 /// LibTorch's intra-op thread count.
 int num_threads();
 

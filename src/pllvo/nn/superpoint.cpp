@@ -9,6 +9,8 @@
 #include <ATen/ops/conv2d.h>
 #include <ATen/ops/empty.h>
 #include <ATen/ops/max_pool2d.h>
+#include <ATen/ops/mkldnn_convolution.h>
+#include <ATen/ops/mkldnn_reorder_conv2d_weight.h>
 #include <ATen/ops/softmax.h>
 #include <c10/core/InferenceMode.h>
 #include <nlohmann/json.hpp>
@@ -30,6 +32,7 @@ SuperPointConfig SuperPointConfig::from_yaml(const ConfigNode& node) {
   node.get("remove_borders", c.remove_borders);
   node.get("max_keypoints", c.max_keypoints);
   node.get("downscale", c.downscale);
+  node.get("conv_layout", c.conv_layout);
   node.reject_unknown_keys();
   c.validate(node.file());
   return c;
@@ -40,6 +43,8 @@ void SuperPointConfig::validate(const std::filesystem::path& file) const {
   if (!(detection_threshold >= 0.0f)) throw InputError(file, "detection_threshold", "must be >= 0");
   if (remove_borders < 0) throw InputError(file, "remove_borders", "must be >= 0");
   if (!(downscale >= 1.0)) throw InputError(file, "downscale", "must be >= 1");
+  if (conv_layout != "mkldnn" && conv_layout != "channels_last" && conv_layout != "nchw")
+    throw InputError(file, "conv_layout", "must be mkldnn, channels_last or nchw");
 }
 
 namespace {
@@ -98,11 +103,30 @@ struct SuperPoint::Net {
       if (!expected.count(name)) throw InputError(st.file(), name, "unexpected tensor (not a SuperPoint weight)");
   }
 
-  static at::Tensor conv(const at::Tensor& x, const Conv& c) {
-    const std::array<std::int64_t, 2> stride{1, 1}, pad{c.padding, c.padding};
+  enum class Layout { Nchw, ChannelsLast, Mkldnn };
+  Layout layout = Layout::Mkldnn;
+
+  // Weights in the layout's preferred form, prepared once.
+  void prepare(const std::string& name) {
+    layout = name == "nchw" ? Layout::Nchw : name == "channels_last" ? Layout::ChannelsLast : Layout::Mkldnn;
+    for (Conv* c : {&conv1a, &conv1b, &conv2a, &conv2b, &conv3a, &conv3b, &conv4a, &conv4b, &convPa, &convPb, &convDa, &convDb}) {
+      const std::array<std::int64_t, 2> pad{c->padding, c->padding}, one{1, 1};
+      if (layout == Layout::Mkldnn) {
+        c->weight = at::mkldnn_reorder_conv2d_weight(c->weight.contiguous().to_mkldnn(), pad, one, one, 1);
+        c->bias = c->bias.to_mkldnn();
+      } else {
+        c->weight = c->weight.contiguous(layout == Layout::ChannelsLast ? at::MemoryFormat::ChannelsLast
+                                                                                   : at::MemoryFormat::Contiguous);
+      }
+    }
+  }
+
+  at::Tensor conv(const at::Tensor& x, const Conv& c) const {
+    const std::array<std::int64_t, 2> stride{1, 1}, pad{c.padding, c.padding}, dilation{1, 1};
+    if (layout == Layout::Mkldnn) return at::mkldnn_convolution(x, c.weight, c.bias, pad, stride, dilation, 1);
     return at::conv2d(x, c.weight, c.bias, stride, pad);
   }
-  static at::Tensor conv_relu(const at::Tensor& x, const Conv& c) { return conv(x, c).relu_(); }
+  at::Tensor conv_relu(const at::Tensor& x, const Conv& c) const { return conv(x, c).relu_(); }
   static at::Tensor pool(const at::Tensor& x) {
     const std::array<std::int64_t, 2> k{2, 2};
     return at::max_pool2d(x, k, k);
@@ -110,7 +134,10 @@ struct SuperPoint::Net {
 
   // image: [1, 1, H, W] float in [0, 1].
   void forward(const at::Tensor& image, SuperPointDense& out) const {
-    at::Tensor x = conv_relu(image, conv1a);
+    at::Tensor x = layout == Layout::Mkldnn         ? image.to_mkldnn()
+                   : layout == Layout::ChannelsLast ? image.contiguous(at::MemoryFormat::ChannelsLast)
+                                                    : image;
+    x = conv_relu(x, conv1a);
     x = pool(conv_relu(x, conv1b));
     x = conv_relu(x, conv2a);
     x = pool(conv_relu(x, conv2b));
@@ -121,7 +148,8 @@ struct SuperPoint::Net {
 
     // Detector head: softmax over 65 channels, dustbin dropped, depth-to-space
     // score[8y + r, 8x + c] = prob[8r + c, y, x].
-    at::Tensor scores = at::softmax(conv(conv_relu(x, convPa), convPb), 1).slice(1, 0, 64);
+    const auto dense = [&](const at::Tensor& t) { return layout == Layout::Mkldnn ? t.to_dense() : t.contiguous(); };
+    at::Tensor scores = at::softmax(dense(conv(conv_relu(x, convPa), convPb)), 1).slice(1, 0, 64);
     const std::int64_t h = scores.size(2), w = scores.size(3);
     scores = scores.permute({0, 2, 3, 1}).reshape({h, w, 8, 8}).permute({0, 2, 1, 3}).reshape({h * 8, w * 8});
     scores = scores.contiguous();
@@ -129,7 +157,7 @@ struct SuperPoint::Net {
     std::memcpy(out.scores.data(), scores.data_ptr<float>(), sizeof(float) * static_cast<std::size_t>(scores.numel()));
 
     // Descriptor head, L2-normalised over channels (F.normalize, eps 1e-12), stored cell-major.
-    at::Tensor desc = conv(conv_relu(x, convDa), convDb);
+    at::Tensor desc = dense(conv(conv_relu(x, convDa), convDb));
     desc = desc.div(desc.norm(2, {1}, true).clamp_min(1e-12));
     desc = desc[0].permute({1, 2, 0}).contiguous();
     out.descriptors.resize(h * w, descriptor_dim);
@@ -148,11 +176,13 @@ SuperPoint::SuperPoint(SuperPointConfig config) : config_(std::move(config)) {
                      "or put the file in the repository's models/ (see docs/nn.md)");
   weights_file_ = *search.found;
   net_ = std::make_unique<Net>(SafeTensors::load(weights_file_));
+  net_->prepare(config_.conv_layout);
 }
 
 SuperPoint::SuperPoint(const SafeTensors& weights, SuperPointConfig config)
     : net_(std::make_unique<Net>(weights)), config_(std::move(config)), weights_file_(weights.file()) {
   config_.validate();
+  net_->prepare(config_.conv_layout);
 }
 
 SuperPoint::~SuperPoint() = default;

@@ -28,6 +28,10 @@ struct SuperPointConfig {
   /// > 1 shrinks the image by this factor (cv::INTER_AREA) before the network; keypoints are
   /// mapped back to full-resolution pixels with (k + 0.5) * s - 0.5, as LightGlue's extract().
   double downscale = 1.0;
+  /// Memory layout of the convolutions (speed only; same function): "mkldnn" keeps the
+  /// activations in oneDNN's blocked layout between layers and the weights pre-reordered
+  /// (fastest, docs/nn.md), "channels_last" (NHWC), "nchw" (PyTorch's default).
+  std::string conv_layout = "nchw";
 
   /// Defaults overridden by the keys present; InputError naming a bad key.
   static SuperPointConfig from_yaml(const ConfigNode& node);
