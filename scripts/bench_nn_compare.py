@@ -37,11 +37,18 @@ def parse_args():
     parser.add_argument("--threads", default="1,2")
     parser.add_argument("--omp-wait-policy", default="PASSIVE", help="PASSIVE, ACTIVE or 'default' (unset)")
     parser.add_argument("--filter", default="", help="only workloads whose name contains this")
+    parser.add_argument("--python-malloc", choices=["default", "tuned"], default="default",
+                        help="tuned: run the Python side with the glibc settings of nn::keep_freed_memory() "
+                             "(MALLOC_MMAP_MAX_=0 ...), which the C++ benchmark uses")
     parser.add_argument("--json", help="write all measurements here")
     return parser.parse_args()
 
 
 ARGS = parse_args()
+MALLOC_TUNING = {"MALLOC_MMAP_MAX_": "0", "MALLOC_TRIM_THRESHOLD_": str(1 << 30), "MALLOC_TOP_PAD_": str(64 << 20)}
+if ARGS.python_malloc == "tuned" and os.environ.get("MALLOC_MMAP_MAX_") != "0":
+    # glibc reads these when the process starts: re-run this script with them.
+    os.execve(sys.executable, [sys.executable] + sys.argv, {**os.environ, **MALLOC_TUNING})
 if ARGS.omp_wait_policy != "default":
     os.environ["OMP_WAIT_POLICY"] = ARGS.omp_wait_policy  # before torch loads libgomp
 else:
@@ -180,7 +187,8 @@ def run_cpp(kind, params, threads, repetitions):
     name = bench_name(kind, params, threads)
     cmd = [ARGS.bench, f"--benchmark_filter=^{name}/", f"--benchmark_repetitions={repetitions}",
            "--benchmark_format=json", "--benchmark_report_aggregates_only=false"]
-    out = subprocess.run(cmd, capture_output=True, text=True, check=True, env=os.environ)
+    env = {k: v for k, v in os.environ.items() if k not in MALLOC_TUNING}  # C++ tunes itself
+    out = subprocess.run(cmd, capture_output=True, text=True, check=True, env=env)
     report = json.loads(out.stdout)
     runs = [b for b in report["benchmarks"] if b.get("run_type") == "iteration"]
     if not runs:
@@ -208,7 +216,8 @@ def run_python(workloads, kind, params, threads, repetitions):
 
 def main():
     threads_list = [int(t) for t in ARGS.threads.split(",")]
-    print(f"OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', '(unset)')}; torch {torch.__version__}")
+    print(f"OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', '(unset)')}; torch {torch.__version__}; "
+          f"Python malloc: {ARGS.python_malloc}")
     print(f"Python sgemm_ provider: {blas_provider()}")
     workloads = PythonWorkloads(ARGS.shared)
     results = {}

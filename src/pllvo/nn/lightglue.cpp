@@ -6,7 +6,9 @@
 #include <set>
 
 #include <ATen/core/Tensor.h>
-#include <ATen/ops/baddbmm.h>
+#include <ATen/ops/_softmax.h>
+#include <ATen/ops/addcmul.h>
+#include <ATen/ops/arange.h>
 #include <ATen/ops/bmm.h>
 #include <ATen/ops/cat.h>
 #include <ATen/ops/empty.h>
@@ -16,6 +18,7 @@
 #include <ATen/ops/log_sigmoid.h>
 #include <ATen/ops/log_softmax.h>
 #include <ATen/ops/mm.h>
+#include <ATen/ops/mul.h>
 #include <ATen/ops/softmax.h>
 #include <c10/core/InferenceMode.h>
 #include <nlohmann/json.hpp>
@@ -151,11 +154,15 @@ struct LightGlue::Net {
     at::Tensor norm_weight, norm_bias;
   };
   struct SelfBlock {
-    Linear q, k, v, out_proj;  // Wqkv split: the official layout interleaves q/k/v per feature
+    // Wqkv with its rows regrouped as [q; k; v] (the official layout interleaves them per
+    // feature) and, inside each head of q and k, the features ordered [even | odd], which
+    // turns rotate_half into a swap of halves. q.k is unchanged by a common permutation.
+    Linear qkv, out_proj;
     Ffn ffn;
   };
   struct CrossBlock {
-    Linear to_qk, to_v, to_out;
+    Linear qk_v;  // to_qk and to_v stacked: one product per image
+    Linear to_out;
     Ffn ffn;
   };
   struct Assignment {
@@ -207,16 +214,22 @@ struct LightGlue::Net {
       const auto w = qkv.weight.view({h, dh, 3, d});
       const auto b = qkv.bias.view({h, dh, 3});
       SelfBlock s;
-      Linear* parts[3] = {&s.q, &s.k, &s.v};
-      for (int part = 0; part < 3; ++part)
-        *parts[part] = Linear{w.select(2, part).reshape({d, d}).contiguous(), b.select(2, part).reshape({d}).contiguous()};
+      const at::Tensor even_odd = at::cat({at::arange(0, dh, 2), at::arange(1, dh, 2)});
+      const auto part = [&](const at::Tensor& t, int which, bool permute) {
+        const at::Tensor p = t.select(2, which);  // [h, dh(, d)]
+        return (permute ? p.index_select(1, even_odd) : p).reshape({d, -1}).squeeze(1);
+      };
+      s.qkv.weight = at::cat({part(w, 0, true), part(w, 1, true), part(w, 2, false)}, 0).contiguous();
+      s.qkv.bias = at::cat({part(b.unsqueeze(3), 0, true), part(b.unsqueeze(3), 1, true), part(b.unsqueeze(3), 2, false)}, 0)
+                       .reshape({3 * d})
+                       .contiguous();
       s.out_proj = linear(p + ".self_attn.out_proj", d, d);
       s.ffn = ffn(p + ".self_attn.ffn");
       self_blocks.push_back(std::move(s));
 
       CrossBlock c;
-      c.to_qk = linear(p + ".cross_attn.to_qk", d, d);
-      c.to_v = linear(p + ".cross_attn.to_v", d, d);
+      const Linear to_qk = linear(p + ".cross_attn.to_qk", d, d), to_v = linear(p + ".cross_attn.to_v", d, d);
+      c.qk_v = Linear{at::cat({to_qk.weight, to_v.weight}, 0).contiguous(), at::cat({to_qk.bias, to_v.bias}, 0).contiguous()};
       c.to_out = linear(p + ".cross_attn.to_out", d, d);
       c.ffn = ffn(p + ".cross_attn.ffn");
       cross_blocks.push_back(std::move(c));
@@ -242,34 +255,45 @@ struct LightGlue::Net {
     return x.add(f.fc3(at::gelu(y)));  // exact (erf) GELU
   }
 
-  // x: [N, D]; cos, sin: [N, 1, dh]; q/k get the rotary encoding, v does not.
+  // x: [N, D]; cos, sin: [N, 1, dh/2] (one value per frequency). Rotary encoding of q and k
+  // (features [even | odd] per head, see SelfBlock): out_e = e cos - o sin, out_o = o cos + e sin.
   at::Tensor self_attention(const SelfBlock& s, const at::Tensor& x, const at::Tensor& cos, const at::Tensor& sin) const {
-    const std::int64_t n = x.size(0), h = arch.num_heads, dh = arch.head_dim();
-    const auto rotate = [&](const at::Tensor& t) {
-      // t*cos + rotate_half(t)*sin, rotate_half: adjacent pairs (a, b) -> (-b, a).
-      const auto pairs = t.view({n, h, dh / 2, 2});
-      const auto rotated = at::cat({pairs.select(3, 1).neg().unsqueeze(3), pairs.select(3, 0).unsqueeze(3)}, 3).view({n, h, dh});
-      return t.view({n, h, dh}).mul(cos).add(rotated.mul(sin)).transpose(0, 1);  // [H, N, dh]
+    const std::int64_t n = x.size(0), h = arch.num_heads, dh = arch.head_dim(), d = arch.descriptor_dim, half = dh / 2;
+    const at::Tensor qkv = s.qkv(x);  // [N, 3D]
+    const auto rotate = [&](std::int64_t offset, const at::Tensor& c, const at::Tensor& sn) {
+      const at::Tensor t = qkv.narrow(1, offset, d).view({n, h, dh});
+      const at::Tensor e = t.narrow(2, 0, half), o = t.narrow(2, half, half);
+      at::Tensor out = at::empty({h, n, dh}, x.options());  // [H, N, dh] for the products
+      at::Tensor out_e = out.narrow(2, 0, half).transpose(0, 1), out_o = out.narrow(2, half, half).transpose(0, 1);
+      at::mul_out(out_e, e, c).addcmul_(o, sn, -1);
+      at::mul_out(out_o, o, c).addcmul_(e, sn, 1);
+      return out;
     };
-    const at::Tensor q = rotate(s.q(x)), k = rotate(s.k(x));
-    const at::Tensor v = s.v(x).view({n, h, dh}).transpose(0, 1);
+    // The attention scale dh^-0.5 is folded into q's encoding.
     const double scale = 1.0 / std::sqrt(static_cast<double>(dh));
-    const at::Tensor sim = at::bmm(q, k.transpose(1, 2)).mul(scale);
-    const at::Tensor context = at::bmm(at::softmax(sim, -1), v);  // [H, N, dh]
-    const at::Tensor message = s.out_proj(context.transpose(0, 1).reshape({n, h * dh}));
+    const at::Tensor q = rotate(0, cos.mul(scale), sin.mul(scale)), k = rotate(d, cos, sin);
+    const at::Tensor v = qkv.narrow(1, 2 * d, d).view({n, h, dh}).transpose(0, 1);
+    at::Tensor sim = at::bmm(q, k.transpose(1, 2));  // [H, N, N]
+    at::_softmax_out(sim, sim, -1, false);  // in place
+    const at::Tensor context = at::bmm(sim, v);  // [H, N, dh]
+    const at::Tensor message = s.out_proj(context.transpose(0, 1).reshape({n, d}));
     return feed_forward(s.ffn, x, message);
   }
 
   void cross_attention(const CrossBlock& c, at::Tensor& x0, at::Tensor& x1) const {
-    const std::int64_t h = arch.num_heads, dh = arch.head_dim();
-    const auto heads = [&](const at::Tensor& t) { return t.view({t.size(0), h, dh}).transpose(0, 1); };
-    const double s = std::sqrt(1.0 / std::sqrt(static_cast<double>(dh)));  // scale ** 0.5 on each side
-    const at::Tensor qk0 = heads(c.to_qk(x0)).mul(s), qk1 = heads(c.to_qk(x1)).mul(s);
-    const at::Tensor v0 = heads(c.to_v(x0)), v1 = heads(c.to_v(x1));
-    const at::Tensor sim = at::bmm(qk0, qk1.transpose(1, 2));  // [H, M, N]
-    const at::Tensor m0 = at::bmm(at::softmax(sim, 2), v1);
-    const at::Tensor m1 = at::bmm(at::softmax(sim, 1).transpose(1, 2), v0);
-    const auto merge = [&](const at::Tensor& m) { return c.to_out(m.transpose(0, 1).reshape({m.size(1), h * dh})); };
+    const std::int64_t h = arch.num_heads, dh = arch.head_dim(), d = arch.descriptor_dim;
+    const at::Tensor qkv0 = c.qk_v(x0), qkv1 = c.qk_v(x1);  // [M, 2D], [N, 2D]
+    const auto heads = [&](const at::Tensor& t, std::int64_t offset) {
+      return t.narrow(1, offset, d).view({t.size(0), h, dh}).transpose(0, 1);  // [H, *, dh]
+    };
+    // Official: both sides times scale**0.5; here one side times scale (same product).
+    const at::Tensor qk0 = heads(qkv0, 0).mul(1.0 / std::sqrt(static_cast<double>(dh)));
+    at::Tensor sim = at::bmm(qk0, heads(qkv1, 0).transpose(1, 2));  // [H, M, N]
+    const at::Tensor attn10 = at::softmax(sim, 1);                   // over image 0's points
+    at::_softmax_out(sim, sim, 2, false);                           // over image 1's, in place
+    const at::Tensor m0 = at::bmm(sim, heads(qkv1, d));
+    const at::Tensor m1 = at::bmm(attn10.transpose(1, 2), heads(qkv0, d));
+    const auto merge = [&](const at::Tensor& m) { return c.to_out(m.transpose(0, 1).reshape({m.size(1), d})); };
     const at::Tensor msg0 = merge(m0), msg1 = merge(m1);
     x0 = feed_forward(c.ffn, x0, msg0);
     x1 = feed_forward(c.ffn, x1, msg1);
@@ -440,23 +464,19 @@ LightGlueResult LightGlue::match(const Features& f0, const Features& f1, LightGl
     desc0 = net.input_proj(desc0);
     desc1 = net.input_proj(desc1);
   }
-  // Rotary encoding: p = kn Wr^T, each frequency used for a pair of features.
-  const auto encode = [&](const at::Tensor& kn, at::Tensor& cos, at::Tensor& sin) {
-    const at::Tensor p = at::mm(kn, net.posenc_wr.t());  // [N, dh/2]
-    const auto pairs = [&](const at::Tensor& t) { return t.unsqueeze(2).expand({t.size(0), dh / 2, 2}).reshape({t.size(0), 1, dh}); };
-    cos = pairs(p.cos());
-    sin = pairs(p.sin());
-  };
-  at::Tensor cos0, sin0, cos1, sin1;
-  encode(kn0, cos0, sin0);
-  encode(kn1, cos1, sin1);
+  // Rotary encoding: p = kn Wr^T, one frequency per pair of features.
+  const at::Tensor p0 = at::mm(kn0, net.posenc_wr.t()), p1 = at::mm(kn1, net.posenc_wr.t());  // [N, dh/2]
+  at::Tensor cos0 = p0.cos().unsqueeze(1), sin0 = p0.sin().unsqueeze(1);                     // [N, 1, dh/2]
+  at::Tensor cos1 = p1.cos().unsqueeze(1), sin1 = p1.sin().unsqueeze(1);
   if (trace) {
+    // As the official encoding: each frequency repeated for its pair, [N, dh].
+    const auto pairs = [&](const at::Tensor& t) { return t.squeeze(1).unsqueeze(2).expand({t.size(0), dh / 2, 2}).reshape({t.size(0), dh}); };
     trace->keypoints_normalized0 = to_eigen(kn0);
     trace->keypoints_normalized1 = to_eigen(kn1);
-    trace->posenc_cos0 = to_eigen(cos0.squeeze(1));
-    trace->posenc_sin0 = to_eigen(sin0.squeeze(1));
-    trace->posenc_cos1 = to_eigen(cos1.squeeze(1));
-    trace->posenc_sin1 = to_eigen(sin1.squeeze(1));
+    trace->posenc_cos0 = to_eigen(pairs(cos0));
+    trace->posenc_sin0 = to_eigen(pairs(sin0));
+    trace->posenc_cos1 = to_eigen(pairs(cos1));
+    trace->posenc_sin1 = to_eigen(pairs(sin1));
   }
 
   const bool early_stop = config_.depth_confidence > 0.0f;
