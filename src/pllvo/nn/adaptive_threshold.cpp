@@ -26,18 +26,25 @@ AdaptiveThresholdConfig AdaptiveThresholdConfig::from_yaml(const ConfigNode& nod
   node.get("min_gain", c.min_gain);
   node.get("max_gain", c.max_gain);
   node.reject_unknown_keys();
-  c.validate(node.file());
+  if (const auto [key, what] = c.problem(); !key.empty()) throw InputError(node.file(), node.path(key), what);
   return c;
 }
 
-void AdaptiveThresholdConfig::validate(const std::filesystem::path& file) const {
-  if (target_keypoints <= 0) throw InputError(file, "target_keypoints", "must be > 0");
-  if (!(min_threshold >= 0.0f)) throw InputError(file, "min_threshold", "must be >= 0");
-  if (!(max_threshold >= min_threshold)) throw InputError(file, "max_threshold", "must be >= min_threshold");
-  if (grid_cols <= 0 || grid_rows <= 0) throw InputError(file, "grid_cols", "grid must have at least one cell");
-  if (!(min_occupancy >= 0.0f && min_occupancy <= 1.0f)) throw InputError(file, "min_occupancy", "must be in [0, 1]");
-  if (!(gain_step >= 1.0f)) throw InputError(file, "gain_step", "must be >= 1");
-  if (!(min_gain > 0.0f && min_gain <= 1.0f && max_gain >= 1.0f)) throw InputError(file, "min_gain", "need 0 < min_gain <= 1 <= max_gain");
+std::pair<std::string, std::string> AdaptiveThresholdConfig::problem() const {
+  if (target_keypoints <= 0) return {"target_keypoints", "must be > 0"};
+  if (!(min_threshold >= 0.0f)) return {"min_threshold", "must be >= 0"};
+  if (!(max_threshold >= min_threshold)) return {"max_threshold", "must be >= min_threshold"};
+  if (grid_cols <= 0) return {"grid_cols", "must be > 0"};
+  if (grid_rows <= 0) return {"grid_rows", "must be > 0"};
+  if (!(min_occupancy >= 0.0f && min_occupancy <= 1.0f)) return {"min_occupancy", "must be in [0, 1]"};
+  if (!(gain_step >= 1.0f)) return {"gain_step", "must be >= 1"};
+  if (!(min_gain > 0.0f && min_gain <= 1.0f)) return {"min_gain", "must be in (0, 1]"};
+  if (!(max_gain >= 1.0f)) return {"max_gain", "must be >= 1"};
+  return {};
+}
+
+void AdaptiveThresholdConfig::validate() const {
+  if (const auto [key, what] = problem(); !key.empty()) throw InputError("adaptive threshold setting " + key + ": " + what);
 }
 
 namespace {

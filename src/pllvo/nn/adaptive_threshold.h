@@ -15,6 +15,8 @@
 // when at least good_matches and a share above good_ratio matched, g /= gain_step (>= min_gain).
 // Details and measurements: docs/nn.md.
 #include <cstdint>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core/mat.hpp>
@@ -44,7 +46,9 @@ struct AdaptiveThresholdConfig {
   float max_gain = 2.0f;
 
   static AdaptiveThresholdConfig from_yaml(const ConfigNode& node);
-  void validate(const std::filesystem::path& file = {}) const;
+  /// {key, problem} of the first invalid setting; empty when all are valid.
+  std::pair<std::string, std::string> problem() const;
+  void validate() const;  ///< InputError naming the key
 };
 
 /// What the rule chose for one frame (for logs and tests).

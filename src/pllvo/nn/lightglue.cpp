@@ -45,15 +45,19 @@ LightGlueConfig LightGlueConfig::from_yaml(const ConfigNode& node) {
   node.get("width_confidence", c.width_confidence);
   node.get("pruning_keypoint_threshold", c.pruning_keypoint_threshold);
   node.reject_unknown_keys();
-  c.validate(node.file());
+  if (const auto [key, what] = c.problem(); !key.empty()) throw InputError(node.file(), node.path(key), what);
   return c;
 }
 
-void LightGlueConfig::validate(const std::filesystem::path& file) const {
-  if (!(filter_threshold >= 0.0f && filter_threshold < 1.0f))
-    throw InputError(file, "filter_threshold", "must be in [0, 1)");
-  if (!(depth_confidence <= 1.0f)) throw InputError(file, "depth_confidence", "must be <= 1 (<= 0 turns it off)");
-  if (!(width_confidence <= 1.0f)) throw InputError(file, "width_confidence", "must be <= 1 (<= 0 turns it off)");
+std::pair<std::string, std::string> LightGlueConfig::problem() const {
+  if (!(filter_threshold >= 0.0f && filter_threshold < 1.0f)) return {"filter_threshold", "must be in [0, 1)"};
+  if (!(depth_confidence <= 1.0f)) return {"depth_confidence", "must be <= 1 (<= 0 turns it off)"};
+  if (!(width_confidence <= 1.0f)) return {"width_confidence", "must be <= 1 (<= 0 turns it off)"};
+  return {};
+}
+
+void LightGlueConfig::validate() const {
+  if (const auto [key, what] = problem(); !key.empty()) throw InputError("LightGlue setting " + key + ": " + what);
 }
 
 namespace {

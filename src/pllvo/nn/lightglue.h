@@ -41,7 +41,9 @@ struct LightGlueConfig {
   int pruning_keypoint_threshold = -1;
 
   static LightGlueConfig from_yaml(const ConfigNode& node);
-  void validate(const std::filesystem::path& file = {}) const;
+  /// {key, problem} of the first invalid setting; empty when all are valid.
+  std::pair<std::string, std::string> problem() const;
+  void validate() const;  ///< InputError naming the key
 };
 
 struct LightGlueResult {

@@ -34,17 +34,22 @@ SuperPointConfig SuperPointConfig::from_yaml(const ConfigNode& node) {
   node.get("downscale", c.downscale);
   node.get("conv_layout", c.conv_layout);
   node.reject_unknown_keys();
-  c.validate(node.file());
+  if (const auto [key, what] = c.problem(); !key.empty()) throw InputError(node.file(), node.path(key), what);
   return c;
 }
 
-void SuperPointConfig::validate(const std::filesystem::path& file) const {
-  if (nms_radius < 0) throw InputError(file, "nms_radius", "must be >= 0");
-  if (!(detection_threshold >= 0.0f)) throw InputError(file, "detection_threshold", "must be >= 0");
-  if (remove_borders < 0) throw InputError(file, "remove_borders", "must be >= 0");
-  if (!(downscale >= 1.0)) throw InputError(file, "downscale", "must be >= 1");
+std::pair<std::string, std::string> SuperPointConfig::problem() const {
+  if (nms_radius < 0) return {"nms_radius", "must be >= 0"};
+  if (!(detection_threshold >= 0.0f)) return {"detection_threshold", "must be >= 0"};
+  if (remove_borders < 0) return {"remove_borders", "must be >= 0"};
+  if (!(downscale >= 1.0)) return {"downscale", "must be >= 1"};
   if (conv_layout != "mkldnn" && conv_layout != "channels_last" && conv_layout != "nchw")
-    throw InputError(file, "conv_layout", "must be mkldnn, channels_last or nchw");
+    return {"conv_layout", "must be nchw, channels_last or mkldnn"};
+  return {};
+}
+
+void SuperPointConfig::validate() const {
+  if (const auto [key, what] = problem(); !key.empty()) throw InputError("SuperPoint setting " + key + ": " + what);
 }
 
 namespace {

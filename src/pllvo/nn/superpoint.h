@@ -35,7 +35,9 @@ struct SuperPointConfig {
 
   /// Defaults overridden by the keys present; InputError naming a bad key.
   static SuperPointConfig from_yaml(const ConfigNode& node);
-  void validate(const std::filesystem::path& file = {}) const;
+  /// {key, problem} of the first invalid setting; empty when all are valid.
+  std::pair<std::string, std::string> problem() const;
+  void validate() const;  ///< InputError naming the key
 };
 
 class SuperPoint {
