@@ -5,6 +5,7 @@
 #include <limits>
 #include <vector>
 
+#include <ATen/Parallel.h>
 #include <ATen/core/Tensor.h>
 #include <ATen/ops/empty.h>
 #include <ATen/ops/mm.h>
@@ -48,23 +49,31 @@ Matches match_mutual_nearest(const Features& f0, const Features& f1, const MnnCo
   const at::Tensor sim_t = at::mm(as_tensor(f0.descriptors), as_tensor(f1.descriptors).t()).contiguous();
   const float* sim = sim_t.data_ptr<float>();
 
-  // One pass: best and second best per row, best per column (first index wins ties).
+  // Best and second best per row (rows in parallel), best per column (first index wins ties).
   constexpr float lowest = -std::numeric_limits<float>::infinity();
-  std::vector<float> best(m, lowest), second(m, lowest), col_best(n, lowest);
-  std::vector<int> best_j(m, 0), col_best_i(n, 0);
+  std::vector<float> best(m, lowest), second(m, lowest);
+  std::vector<int> best_j(m, 0);
+  at::parallel_for(0, m, 64, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t i = begin; i < end; ++i) {
+      const float* row = sim + i * n;
+      for (Eigen::Index j = 0; j < n; ++j) {
+        const float s = row[j];
+        if (s > best[i]) {
+          second[i] = best[i];
+          best[i] = s;
+          best_j[i] = static_cast<int>(j);
+        } else if (s > second[i]) {
+          second[i] = s;
+        }
+      }
+    }
+  });
+  std::vector<float> col_best(n, lowest);
+  std::vector<int> col_best_i(n, 0);
   for (Eigen::Index i = 0; i < m; ++i) {
     const float* row = sim + i * n;
-    for (Eigen::Index j = 0; j < n; ++j) {
-      const float s = row[j];
-      if (s > best[i]) {
-        second[i] = best[i];
-        best[i] = s;
-        best_j[i] = static_cast<int>(j);
-      } else if (s > second[i]) {
-        second[i] = s;
-      }
-      if (s > col_best[j]) col_best[j] = s, col_best_i[j] = static_cast<int>(i);
-    }
+    for (Eigen::Index j = 0; j < n; ++j)
+      if (row[j] > col_best[j]) col_best[j] = row[j], col_best_i[j] = static_cast<int>(i);
   }
   const auto squared_distance = [](float s) { return 2.0f * (1.0f - s); };
   const float ratio2 = config.ratio_threshold * config.ratio_threshold;
