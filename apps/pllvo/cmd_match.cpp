@@ -54,15 +54,13 @@ void add_match_command(CLI::App& app) {
       config.lightglue.weight_overrides.assign(opt->weights.begin() + 1, opt->weights.end());
     }
     config.lightglue.validate();
-    std::string notice;
-    const auto resolved = nn::resolve_matcher(config, &notice);  // MNN when no LightGlue weights are found
+    const auto resolved = nn::resolve_matcher(config);  // MNN (with a warning) when no LightGlue weights are found
     if (resolved.type == "lightglue") {
       const nn::LightGlue lightglue(resolved.lightglue);
       const auto r = lightglue.match(f0, f1);
       nn::save_lightglue_result(r, opt->out);
       std::printf("lightglue: %d matches, stop after %d layers -> %s\n", r.matches.size(), r.stop, opt->out.c_str());
     } else {
-      if (!notice.empty()) std::fprintf(stderr, "pllvo: %s\n", notice.c_str());
       const auto m = nn::match_mutual_nearest(f0, f1, resolved.mnn);
       nn::save_matches(m, opt->out);
       std::printf("mnn: %d matches -> %s\n", m.size(), opt->out.c_str());
