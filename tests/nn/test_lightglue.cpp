@@ -94,10 +94,12 @@ TEST_P(LightGlueVector, ReproducesOfficialOutputs) {
 
   // Log-assignment: full in (a), sampled rows in (c); |diff| <= 1e-3 + 1e-5 |ref|.
   const auto& la = trace.log_assignment;
+  double raw = 0;
   const auto check_row = [&](const std::vector<float>& ref_row, Eigen::Index row, double& worst) {
     for (Eigen::Index col = 0; col < la.cols(); ++col) {
       const double rv = ref_row[static_cast<std::size_t>(col)];
       worst = std::max(worst, std::abs(rv - la(row, col)) - 1e-5 * std::abs(rv));
+      raw = std::max(raw, std::abs(rv - la(row, col)));
     }
   };
   double worst = 0;
@@ -115,6 +117,9 @@ TEST_P(LightGlueVector, ReproducesOfficialOutputs) {
   }
   EXPECT_LE(worst, 1e-3);
   RecordProperty("log_assignment_excess", test::sci(worst));
+  RecordProperty("log_assignment_max_abs", test::sci(raw));
+  RecordProperty("matches", r.matches.size());
+  RecordProperty("stop", r.stop);
 
   if (ref.contains("kpts_normalized0")) {
     const KeypointMatrix kn0 = trace.keypoints_normalized0, kn1 = trace.keypoints_normalized1;

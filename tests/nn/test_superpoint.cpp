@@ -86,8 +86,13 @@ TEST_P(SuperPointKeypointVector, KeypointsInOrderScoresAndDescriptorsMatchOffici
     ASSERT_EQ(f.keypoints(i, 0), kp[2 * i]) << "keypoint " << i;
     ASSERT_EQ(f.keypoints(i, 1), kp[2 * i + 1]) << "keypoint " << i;
   }
-  EXPECT_LE(max_abs_diff(ref.floats("keypoint_scores"), f.scores.data(), f.scores.size()), 1e-5);
-  EXPECT_LE(max_abs_diff(ref.floats("descriptors"), f.descriptors.data(), f.descriptors.size()), 1e-4);
+  const double score_err = max_abs_diff(ref.floats("keypoint_scores"), f.scores.data(), f.scores.size());
+  const double desc_err = max_abs_diff(ref.floats("descriptors"), f.descriptors.data(), f.descriptors.size());
+  EXPECT_LE(score_err, 1e-5);
+  EXPECT_LE(desc_err, 1e-4);
+  RecordProperty("keypoints", f.size());
+  RecordProperty("keypoint_scores_max_abs", test::sci(score_err));
+  RecordProperty("descriptors_max_abs", test::sci(desc_err));
   const auto size = ref.ints("image_size");
   EXPECT_EQ(f.image_size.x(), size[0]);
   EXPECT_EQ(f.image_size.y(), size[1]);
