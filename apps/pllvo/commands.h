@@ -10,5 +10,7 @@ void add_info_command(CLI::App& app);
 void add_lines_eval_command(CLI::App& app);
 void add_run_command(CLI::App& app);
 void add_synth_command(CLI::App& app);
+void add_extract_command(CLI::App& app);
+void add_match_command(CLI::App& app);
 
 }  // namespace pllvo::cli

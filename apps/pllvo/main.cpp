@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
   pllvo::cli::add_lines_eval_command(app);
   pllvo::cli::add_run_command(app);
   pllvo::cli::add_synth_command(app);
+  pllvo::cli::add_extract_command(app);
+  pllvo::cli::add_match_command(app);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,590 @@
+#include "pllvo/nn/lightglue.h"
+
+#include <cmath>
+#include <cstring>
+#include <regex>
+#include <set>
+
+#include <ATen/core/Tensor.h>
+#include <ATen/ops/_softmax.h>
+#include <ATen/ops/addcmul.h>
+#include <ATen/ops/arange.h>
+#include <ATen/ops/bmm.h>
+#include <ATen/ops/cat.h>
+#include <ATen/ops/empty.h>
+#include <ATen/ops/gelu.h>
+#include <ATen/ops/layer_norm.h>
+#include <ATen/ops/linear.h>
+#include <ATen/ops/log_sigmoid.h>
+#include <ATen/ops/log_softmax.h>
+#include <ATen/ops/mm.h>
+#include <ATen/ops/mul.h>
+#include <ATen/ops/softmax.h>
+#include <c10/core/InferenceMode.h>
+#include <nlohmann/json.hpp>
+
+#include "pllvo/common/error.h"
+#include "pllvo/nn/model_files.h"
+#include "pllvo/nn/torch_adapter.h"
+
+namespace pllvo::nn {
+
+// ---------------------------------------------------------------------------------------
+// Configuration and weights
+
+LightGlueConfig LightGlueConfig::from_yaml(const ConfigNode& node) {
+  LightGlueConfig c;
+  std::string weights;
+  node.get("weights", weights);
+  c.weights = weights;
+  std::vector<std::string> overrides;
+  node.get("weight_overrides", overrides);
+  for (const auto& o : overrides) c.weight_overrides.emplace_back(o);
+  node.get("filter_threshold", c.filter_threshold);
+  node.get("depth_confidence", c.depth_confidence);
+  node.get("width_confidence", c.width_confidence);
+  node.get("pruning_keypoint_threshold", c.pruning_keypoint_threshold);
+  node.reject_unknown_keys();
+  if (const auto [key, what] = c.problem(); !key.empty()) throw InputError(node.file(), node.path(key), what);
+  return c;
+}
+
+std::pair<std::string, std::string> LightGlueConfig::problem() const {
+  if (!(filter_threshold >= 0.0f && filter_threshold < 1.0f)) return {"filter_threshold", "must be in [0, 1)"};
+  if (!(depth_confidence <= 1.0f)) return {"depth_confidence", "must be <= 1 (<= 0 turns it off)"};
+  if (!(width_confidence <= 1.0f)) return {"width_confidence", "must be <= 1 (<= 0 turns it off)"};
+  return {};
+}
+
+void LightGlueConfig::validate() const {
+  if (const auto [key, what] = problem(); !key.empty()) throw InputError("LightGlue setting " + key + ": " + what);
+}
+
+namespace {
+
+// The released checkpoints name layers self_attn.{i}. / cross_attn.{i}.; the official loader
+// renames them to transformers.{i}.self_attn. / .cross_attn. (done here exactly, by prefix).
+std::string official_name(const std::string& name) {
+  static const std::regex pattern(R"(^(self_attn|cross_attn)\.(\d+)\.(.*)$)");
+  std::smatch m;
+  if (std::regex_match(name, m, pattern)) return "transformers." + m[2].str() + "." + m[1].str() + "." + m[3].str();
+  return name;
+}
+
+SafeTensors renamed(const SafeTensors& in) {
+  SafeTensors out;
+  out.set_file(in.file());
+  out.metadata() = in.metadata();
+  for (const auto& name : in.names()) out.set(official_name(name), in.at(name));
+  return out;
+}
+
+std::int64_t dim(const SafeTensors& st, const std::string& name, std::size_t rank, std::size_t axis) {
+  if (!st.contains(name)) throw InputError(st.file(), name, "tensor missing (not a LightGlue weight file?)");
+  const auto& shape = st.at(name).shape;
+  if (shape.size() != rank) throw InputError(st.file(), name, "rank " + std::to_string(shape.size()) + ", expected " + std::to_string(rank));
+  return shape[axis];
+}
+
+float confidence_threshold(int layer, int n_layers) {
+  const double t = 0.8 + 0.1 * std::exp(-4.0 * layer / n_layers);
+  return static_cast<float>(std::clamp(t, 0.0, 1.0));
+}
+
+}  // namespace
+
+LightGlueArchitecture lightglue_architecture(const SafeTensors& raw) {
+  const SafeTensors st = renamed(raw);
+  LightGlueArchitecture a;
+  a.descriptor_dim = static_cast<int>(dim(st, "transformers.0.self_attn.out_proj.weight", 2, 0));
+  const auto wr_rows = dim(st, "posenc.Wr.weight", 2, 0);
+  const auto wr_cols = dim(st, "posenc.Wr.weight", 2, 1);
+  if (wr_cols != 2 && wr_cols != 4) throw InputError(st.file(), "posenc.Wr.weight", "expected 2 (or 4) input columns");
+  a.add_scale_ori = wr_cols == 4;
+  const auto head_dim = 2 * wr_rows;
+  if (head_dim <= 0 || a.descriptor_dim % head_dim != 0)
+    throw InputError(st.file(), "posenc.Wr.weight", "rows do not divide the descriptor dimension into heads");
+  a.num_heads = static_cast<int>(a.descriptor_dim / head_dim);
+  a.n_layers = 0;
+  while (st.contains("transformers." + std::to_string(a.n_layers) + ".self_attn.Wqkv.weight")) ++a.n_layers;
+  a.input_dim = st.contains("input_proj.weight") ? static_cast<int>(dim(st, "input_proj.weight", 2, 1)) : a.descriptor_dim;
+
+  if (const auto it = st.metadata().find("config"); it != st.metadata().end()) {
+    nlohmann::json config;
+    try {
+      config = nlohmann::json::parse(it->second);
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(st.file(), "__metadata__.config", std::string("malformed JSON: ") + e.what());
+    }
+    const auto check = [&](const char* key, long value) {
+      if (!config.contains(key) || config[key].is_null()) return;
+      if (!config[key].is_number_integer() && !config[key].is_boolean())
+        throw InputError(st.file(), std::string("__metadata__.config.") + key, "not a number");
+      const long stored = config[key].is_boolean() ? long(config[key].get<bool>()) : config[key].get<long>();
+      if (stored != value)
+        throw InputError(st.file(), std::string("__metadata__.config.") + key,
+                         "says " + std::to_string(stored) + " but the tensors hold " + std::to_string(value));
+    };
+    check("input_dim", a.input_dim);
+    check("descriptor_dim", a.descriptor_dim);
+    check("n_layers", a.n_layers);
+    check("num_heads", a.num_heads);
+    check("add_scale_ori", a.add_scale_ori);
+  }
+  if (a.n_layers == 0) throw InputError(st.file(), "transformers.0.self_attn.Wqkv.weight", "tensor missing");
+  return a;
+}
+
+SafeTensors load_weights_with_overrides(const std::filesystem::path& file,
+                                        const std::vector<std::filesystem::path>& overrides) {
+  SafeTensors st = SafeTensors::load(file);
+  for (const auto& o : overrides) {
+    const auto extra = SafeTensors::load(o);
+    for (const auto& name : extra.names()) st.set(name, extra.at(name));
+  }
+  return st;
+}
+
+// ---------------------------------------------------------------------------------------
+// The network
+
+struct LightGlue::Net {
+  struct Linear {
+    at::Tensor weight, bias;
+    at::Tensor operator()(const at::Tensor& x) const { return at::linear(x, weight, bias); }
+  };
+  struct Ffn {
+    Linear fc0, fc3;
+    at::Tensor norm_weight, norm_bias;
+  };
+  struct SelfBlock {
+    // Wqkv with its rows regrouped as [q; k; v] (the official layout interleaves them per
+    // feature) and, inside each head of q and k, the features ordered [even | odd], which
+    // turns rotate_half into a swap of halves. q.k is unchanged by a common permutation.
+    Linear qkv, out_proj;
+    Ffn ffn;
+  };
+  struct CrossBlock {
+    Linear qk_v;  // to_qk and to_v stacked: one product per image
+    Linear to_out;
+    Ffn ffn;
+  };
+  struct Assignment {
+    Linear matchability, final_proj;
+  };
+
+  LightGlueArchitecture arch;
+  bool has_input_proj = false;
+  Linear input_proj;
+  at::Tensor posenc_wr;  // [head_dim / 2, 2]
+  std::vector<SelfBlock> self_blocks;
+  std::vector<CrossBlock> cross_blocks;
+  std::vector<Assignment> assignment;
+  std::vector<Linear> token;
+  std::vector<float> thresholds;
+
+  explicit Net(const SafeTensors& raw) {
+    const SafeTensors st = renamed(raw);
+    arch = lightglue_architecture(st);
+    if (arch.add_scale_ori)
+      throw InputError(st.file(), "posenc.Wr.weight", "add_scale_ori (scale/orientation inputs) is not supported");
+    const std::int64_t d = arch.descriptor_dim, h = arch.num_heads, dh = arch.head_dim();
+    std::set<std::string> expected;
+    const auto tensor = [&](const std::string& name, std::vector<std::int64_t> shape) {
+      expected.insert(name);
+      return detail::float_tensor(st, name, shape);
+    };
+    const auto linear = [&](const std::string& prefix, std::int64_t out, std::int64_t in) {
+      return Linear{tensor(prefix + ".weight", {out, in}), tensor(prefix + ".bias", {out})};
+    };
+    const auto ffn = [&](const std::string& prefix) {
+      Ffn f;
+      f.fc0 = linear(prefix + ".0", 2 * d, 2 * d);
+      f.norm_weight = tensor(prefix + ".1.weight", {2 * d});
+      f.norm_bias = tensor(prefix + ".1.bias", {2 * d});
+      f.fc3 = linear(prefix + ".3", d, 2 * d);
+      return f;
+    };
+
+    if (arch.input_dim != arch.descriptor_dim) {
+      has_input_proj = true;
+      input_proj = linear("input_proj", d, arch.input_dim);
+    }
+    posenc_wr = tensor("posenc.Wr.weight", {dh / 2, 2});
+    for (int i = 0; i < arch.n_layers; ++i) {
+      const std::string p = "transformers." + std::to_string(i);
+      // Wqkv row f = head*3*dh + j*3 + s holds q (s=0), k (1) or v (2) of feature j.
+      const Linear qkv = linear(p + ".self_attn.Wqkv", 3 * d, d);
+      const auto w = qkv.weight.view({h, dh, 3, d});
+      const auto b = qkv.bias.view({h, dh, 3});
+      SelfBlock s;
+      const at::Tensor even_odd = at::cat({at::arange(0, dh, 2), at::arange(1, dh, 2)});
+      const auto part = [&](const at::Tensor& t, int which, bool permute) {
+        const at::Tensor p = t.select(2, which);  // [h, dh(, d)]
+        return (permute ? p.index_select(1, even_odd) : p).reshape({d, -1}).squeeze(1);
+      };
+      s.qkv.weight = at::cat({part(w, 0, true), part(w, 1, true), part(w, 2, false)}, 0).contiguous();
+      s.qkv.bias = at::cat({part(b.unsqueeze(3), 0, true), part(b.unsqueeze(3), 1, true), part(b.unsqueeze(3), 2, false)}, 0)
+                       .reshape({3 * d})
+                       .contiguous();
+      s.out_proj = linear(p + ".self_attn.out_proj", d, d);
+      s.ffn = ffn(p + ".self_attn.ffn");
+      self_blocks.push_back(std::move(s));
+
+      CrossBlock c;
+      const Linear to_qk = linear(p + ".cross_attn.to_qk", d, d), to_v = linear(p + ".cross_attn.to_v", d, d);
+      c.qk_v = Linear{at::cat({to_qk.weight, to_v.weight}, 0).contiguous(), at::cat({to_qk.bias, to_v.bias}, 0).contiguous()};
+      c.to_out = linear(p + ".cross_attn.to_out", d, d);
+      c.ffn = ffn(p + ".cross_attn.ffn");
+      cross_blocks.push_back(std::move(c));
+
+      const std::string a = "log_assignment." + std::to_string(i);
+      assignment.push_back({linear(a + ".matchability", 1, d), linear(a + ".final_proj", d, d)});
+      if (i + 1 < arch.n_layers) token.push_back(linear("token_confidence." + std::to_string(i) + ".token.0", 1, d));
+    }
+    if (st.contains("confidence_thresholds")) {
+      st.check_shape("confidence_thresholds", {arch.n_layers});
+      thresholds = st.floats("confidence_thresholds");
+      expected.insert("confidence_thresholds");
+    } else {
+      for (int i = 0; i < arch.n_layers; ++i) thresholds.push_back(confidence_threshold(i, arch.n_layers));
+    }
+    for (const auto& name : st.names())
+      if (!expected.count(name)) throw InputError(st.file(), name, "unexpected tensor (not part of this LightGlue architecture)");
+  }
+
+  at::Tensor feed_forward(const Ffn& f, const at::Tensor& x, const at::Tensor& message) const {
+    at::Tensor y = f.fc0(at::cat({x, message}, 1));
+    y = at::layer_norm(y, {y.size(1)}, f.norm_weight, f.norm_bias, 1e-5);
+    return x.add(f.fc3(at::gelu(y)));  // exact (erf) GELU
+  }
+
+  // x: [N, D]; cos, sin: [N, 1, dh/2] (one value per frequency). Rotary encoding of q and k
+  // (features [even | odd] per head, see SelfBlock): out_e = e cos - o sin, out_o = o cos + e sin.
+  at::Tensor self_attention(const SelfBlock& s, const at::Tensor& x, const at::Tensor& cos, const at::Tensor& sin) const {
+    const std::int64_t n = x.size(0), h = arch.num_heads, dh = arch.head_dim(), d = arch.descriptor_dim, half = dh / 2;
+    const at::Tensor qkv = s.qkv(x);  // [N, 3D]
+    const auto rotate = [&](std::int64_t offset, const at::Tensor& c, const at::Tensor& sn) {
+      const at::Tensor t = qkv.narrow(1, offset, d).view({n, h, dh});
+      const at::Tensor e = t.narrow(2, 0, half), o = t.narrow(2, half, half);
+      at::Tensor out = at::empty({h, n, dh}, x.options());  // [H, N, dh] for the products
+      at::Tensor out_e = out.narrow(2, 0, half).transpose(0, 1), out_o = out.narrow(2, half, half).transpose(0, 1);
+      at::mul_out(out_e, e, c).addcmul_(o, sn, -1);
+      at::mul_out(out_o, o, c).addcmul_(e, sn, 1);
+      return out;
+    };
+    // The attention scale dh^-0.5 is folded into q's encoding.
+    const double scale = 1.0 / std::sqrt(static_cast<double>(dh));
+    const at::Tensor q = rotate(0, cos.mul(scale), sin.mul(scale)), k = rotate(d, cos, sin);
+    const at::Tensor v = qkv.narrow(1, 2 * d, d).view({n, h, dh}).transpose(0, 1);
+    at::Tensor sim = at::bmm(q, k.transpose(1, 2));  // [H, N, N]
+    at::_softmax_out(sim, sim, -1, false);  // in place
+    const at::Tensor context = at::bmm(sim, v);  // [H, N, dh]
+    const at::Tensor message = s.out_proj(context.transpose(0, 1).reshape({n, d}));
+    return feed_forward(s.ffn, x, message);
+  }
+
+  void cross_attention(const CrossBlock& c, at::Tensor& x0, at::Tensor& x1) const {
+    const std::int64_t h = arch.num_heads, dh = arch.head_dim(), d = arch.descriptor_dim;
+    const at::Tensor qkv0 = c.qk_v(x0), qkv1 = c.qk_v(x1);  // [M, 2D], [N, 2D]
+    const auto heads = [&](const at::Tensor& t, std::int64_t offset) {
+      return t.narrow(1, offset, d).view({t.size(0), h, dh}).transpose(0, 1);  // [H, *, dh]
+    };
+    // Official: both sides times scale**0.5; here one side times scale (same product).
+    const at::Tensor qk0 = heads(qkv0, 0).mul(1.0 / std::sqrt(static_cast<double>(dh)));
+    at::Tensor sim = at::bmm(qk0, heads(qkv1, 0).transpose(1, 2));  // [H, M, N]
+    const at::Tensor attn10 = at::softmax(sim, 1);                   // over image 0's points
+    at::_softmax_out(sim, sim, 2, false);                           // over image 1's, in place
+    const at::Tensor m0 = at::bmm(sim, heads(qkv1, d));
+    const at::Tensor m1 = at::bmm(attn10.transpose(1, 2), heads(qkv0, d));
+    const auto merge = [&](const at::Tensor& m) { return c.to_out(m.transpose(0, 1).reshape({m.size(1), d})); };
+    const at::Tensor msg0 = merge(m0), msg1 = merge(m1);
+    x0 = feed_forward(c.ffn, x0, msg0);
+    x1 = feed_forward(c.ffn, x1, msg1);
+  }
+
+  // The (M+1) x (N+1) log-assignment matrix (dual softmax + matchability).
+  at::Tensor log_assignment(int layer, const at::Tensor& d0, const at::Tensor& d1) const {
+    const auto& a = assignment[static_cast<std::size_t>(layer)];
+    const double norm = std::pow(static_cast<double>(arch.descriptor_dim), 0.25);
+    const at::Tensor md0 = a.final_proj(d0).div(norm), md1 = a.final_proj(d1).div(norm);
+    const at::Tensor sim = at::mm(md0, md1.t());
+    const at::Tensor z0 = a.matchability(d0), z1 = a.matchability(d1);  // [M, 1], [N, 1]
+    const std::int64_t m = sim.size(0), n = sim.size(1);
+    at::Tensor scores = at::empty({m + 1, n + 1}, sim.options());
+    const at::Tensor certainties = at::log_sigmoid(z0).add(at::log_sigmoid(z1).t());
+    scores.slice(0, 0, m).slice(1, 0, n).copy_(at::log_softmax(sim, 1).add(at::log_softmax(sim, 0)).add(certainties));
+    scores.slice(0, 0, m).select(1, n).copy_(at::log_sigmoid(z0.neg()).squeeze(1));
+    scores.select(0, m).slice(0, 0, n).copy_(at::log_sigmoid(z1.neg()).squeeze(1));
+    scores.select(0, m).select(0, n).fill_(0.0f);
+    return scores;
+  }
+
+  at::Tensor matchability(int layer, const at::Tensor& d) const {
+    return assignment[static_cast<std::size_t>(layer)].matchability(d).sigmoid().squeeze(1);
+  }
+};
+
+namespace {
+
+at::Tensor features_tensor(const float* data, std::int64_t rows, std::int64_t cols) {
+  at::Tensor t = at::empty({rows, cols}, at::TensorOptions().dtype(at::kFloat));
+  if (rows * cols > 0) std::memcpy(t.data_ptr<float>(), data, sizeof(float) * static_cast<std::size_t>(rows * cols));
+  return t;
+}
+
+Eigen::MatrixXf to_eigen(const at::Tensor& t) {
+  const at::Tensor c = t.contiguous();
+  using RowMajor = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  return Eigen::Map<const RowMajor>(c.data_ptr<float>(), c.size(0), c.size(1));
+}
+
+// (kp - size/2) / (max(W, H)/2), as the official normalize_keypoints.
+at::Tensor normalize_keypoints(const Features& f) {
+  at::Tensor kn = features_tensor(f.keypoints.data(), f.size(), 2);
+  const float w = static_cast<float>(f.image_size.x()), h = static_cast<float>(f.image_size.y());
+  float* p = kn.data_ptr<float>();
+  const float scale = std::max(w, h) / 2.0f;
+  for (int i = 0; i < f.size(); ++i) {
+    p[2 * i] = (p[2 * i] - w / 2.0f) / scale;
+    p[2 * i + 1] = (p[2 * i + 1] - h / 2.0f) / scale;
+  }
+  return kn;
+}
+
+void check_features(const Features& f, int input_dim, const char* which) {
+  if (f.image_size.x() <= 0 || f.image_size.y() <= 0)
+    throw InputError(std::string("LightGlue: ") + which + " has no image size (needed to normalise keypoints)");
+  if (f.size() > 0 && f.descriptors.cols() != input_dim)
+    throw InputError(std::string("LightGlue: ") + which + " has " + std::to_string(f.descriptors.cols()) +
+                     "-dimensional descriptors; these weights expect " + std::to_string(input_dim));
+  if (f.descriptors.rows() != f.size()) throw InputError(std::string("LightGlue: ") + which + ": descriptor count differs from keypoint count");
+}
+
+struct FilteredMatches {
+  std::vector<int> m0, m1;
+  std::vector<float> s0, s1;
+};
+
+// Official filter_matches on the (M+1) x (N+1) log-assignment: mutual argmax of the inner
+// block; scores exp(row max) for every mutual pair; valid when mutual and score > threshold.
+FilteredMatches filter_matches(const at::Tensor& scores, float threshold) {
+  const at::Tensor c = scores.contiguous();
+  const std::int64_t m = c.size(0) - 1, n = c.size(1) - 1, stride = c.size(1);
+  const float* s = c.data_ptr<float>();
+  std::vector<int> best0(static_cast<std::size_t>(m), 0), best1(static_cast<std::size_t>(n), 0);
+  std::vector<float> max0(static_cast<std::size_t>(m), -INFINITY), max1(static_cast<std::size_t>(n), -INFINITY);
+  for (std::int64_t i = 0; i < m; ++i) {
+    for (std::int64_t j = 0; j < n; ++j) {
+      const float v = s[i * stride + j];
+      if (v > max0[i]) max0[i] = v, best0[i] = static_cast<int>(j);  // first index wins ties, as torch.max
+      if (v > max1[j]) max1[j] = v, best1[j] = static_cast<int>(i);
+    }
+  }
+  FilteredMatches f;
+  f.m0.assign(static_cast<std::size_t>(m), -1);
+  f.m1.assign(static_cast<std::size_t>(n), -1);
+  f.s0.assign(static_cast<std::size_t>(m), 0.0f);
+  f.s1.assign(static_cast<std::size_t>(n), 0.0f);
+  if (n == 0) return f;
+  std::vector<char> valid0(static_cast<std::size_t>(m), 0);
+  for (std::int64_t i = 0; i < m; ++i) {
+    if (best1[best0[i]] != i) continue;  // not mutual
+    f.s0[i] = std::exp(max0[i]);
+    valid0[i] = f.s0[i] > threshold;
+    if (valid0[i]) f.m0[i] = best0[i];
+  }
+  if (m == 0) return f;
+  for (std::int64_t j = 0; j < n; ++j) {
+    const int i = best1[j];
+    if (best0[i] != j) continue;
+    f.s1[j] = f.s0[i];
+    if (valid0[i]) f.m1[j] = i;
+  }
+  return f;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+
+void save_lightglue_result(const LightGlueResult& r, const std::filesystem::path& file) {
+  SafeTensors out;
+  const auto ints = [&](const std::string& name, const Eigen::VectorXi& v) {
+    const std::vector<std::int64_t> values(v.data(), v.data() + v.size());
+    out.set_i64(name, {v.size()}, values.data());
+  };
+  const std::int64_t k = r.matches.size();
+  std::vector<std::int64_t> pairs(static_cast<std::size_t>(2 * k));
+  for (std::int64_t i = 0; i < k; ++i) {
+    pairs[2 * i] = r.matches.pairs(i, 0);
+    pairs[2 * i + 1] = r.matches.pairs(i, 1);
+  }
+  out.set_i64("matches", {k, 2}, pairs.data());
+  out.set_f32("scores", {k}, r.matches.scores.data());
+  const std::int64_t stop = r.stop;
+  out.set_i64("stop", {1}, &stop);
+  ints("matches0", r.matches0);
+  ints("matches1", r.matches1);
+  out.set_f32("matching_scores0", {r.matching_scores0.size()}, r.matching_scores0.data());
+  out.set_f32("matching_scores1", {r.matching_scores1.size()}, r.matching_scores1.data());
+  ints("prune0", r.prune0);
+  ints("prune1", r.prune1);
+  out.metadata()["format"] = "pllvo LightGlue matches (names as the official outputs)";
+  out.save(file);
+}
+
+LightGlue::LightGlue(LightGlueConfig config) : config_(std::move(config)) {
+  config_.validate();
+  const auto search = find_weights(config_.weights, kLightGlueWeights);
+  if (!search.found) throw InputError("LightGlue weights " + search.not_found_message(kLightGlueWeights));
+  weights_file_ = *search.found;
+  net_ = std::make_unique<Net>(load_weights_with_overrides(weights_file_, config_.weight_overrides));
+}
+
+LightGlue::LightGlue(const SafeTensors& weights, LightGlueConfig config)
+    : net_(std::make_unique<Net>(weights)), config_(std::move(config)), weights_file_(weights.file()) {
+  config_.validate();
+}
+
+LightGlue::~LightGlue() = default;
+LightGlue::LightGlue(LightGlue&&) noexcept = default;
+LightGlue& LightGlue::operator=(LightGlue&&) noexcept = default;
+
+const LightGlueArchitecture& LightGlue::architecture() const { return net_->arch; }
+
+LightGlueResult LightGlue::match(const Features& f0, const Features& f1, LightGlueTrace* trace) const {
+  const Net& net = *net_;
+  const auto& arch = net.arch;
+  check_features(f0, arch.input_dim, "image 0");
+  check_features(f1, arch.input_dim, "image 1");
+  c10::InferenceMode guard;
+
+  const std::int64_t m = f0.size(), n = f1.size(), dh = arch.head_dim();
+  const at::Tensor kn0 = normalize_keypoints(f0), kn1 = normalize_keypoints(f1);
+  at::Tensor desc0 = features_tensor(f0.descriptors.data(), m, arch.input_dim);
+  at::Tensor desc1 = features_tensor(f1.descriptors.data(), n, arch.input_dim);
+  if (net.has_input_proj) {
+    desc0 = net.input_proj(desc0);
+    desc1 = net.input_proj(desc1);
+  }
+  // Rotary encoding: p = kn Wr^T, one frequency per pair of features.
+  const at::Tensor p0 = at::mm(kn0, net.posenc_wr.t()), p1 = at::mm(kn1, net.posenc_wr.t());  // [N, dh/2]
+  at::Tensor cos0 = p0.cos().unsqueeze(1), sin0 = p0.sin().unsqueeze(1);                     // [N, 1, dh/2]
+  at::Tensor cos1 = p1.cos().unsqueeze(1), sin1 = p1.sin().unsqueeze(1);
+  if (trace) {
+    // As the official encoding: each frequency repeated for its pair, [N, dh].
+    const auto pairs = [&](const at::Tensor& t) { return t.squeeze(1).unsqueeze(2).expand({t.size(0), dh / 2, 2}).reshape({t.size(0), dh}); };
+    trace->keypoints_normalized0 = to_eigen(kn0);
+    trace->keypoints_normalized1 = to_eigen(kn1);
+    trace->posenc_cos0 = to_eigen(pairs(cos0));
+    trace->posenc_sin0 = to_eigen(pairs(sin0));
+    trace->posenc_cos1 = to_eigen(pairs(cos1));
+    trace->posenc_sin1 = to_eigen(pairs(sin1));
+  }
+
+  const bool early_stop = config_.depth_confidence > 0.0f;
+  const bool pruning = config_.width_confidence > 0.0f;
+  std::vector<std::int64_t> ind0(static_cast<std::size_t>(m)), ind1(static_cast<std::size_t>(n));
+  for (std::int64_t i = 0; i < m; ++i) ind0[i] = i;
+  for (std::int64_t j = 0; j < n; ++j) ind1[j] = j;
+  std::vector<int> prune0(static_cast<std::size_t>(m), 1), prune1(static_cast<std::size_t>(n), 1);
+
+  // Keeps the rows where keep is true, in every per-point tensor of one image.
+  const auto prune = [&](const at::Tensor& keep, at::Tensor& desc, at::Tensor& cos, at::Tensor& sin,
+                         std::vector<std::int64_t>& ind, std::vector<int>& counts) {
+    const at::Tensor k = keep.contiguous();
+    const bool* keep_ptr = k.data_ptr<bool>();
+    std::vector<std::int64_t> rows, kept_ind;
+    for (std::int64_t r = 0; r < k.size(0); ++r)
+      if (keep_ptr[r]) rows.push_back(r), kept_ind.push_back(ind[static_cast<std::size_t>(r)]);
+    const at::Tensor index = at::empty({static_cast<std::int64_t>(rows.size())}, at::TensorOptions().dtype(at::kLong));
+    if (!rows.empty()) std::memcpy(index.data_ptr<std::int64_t>(), rows.data(), rows.size() * sizeof(std::int64_t));
+    desc = desc.index_select(0, index);
+    cos = cos.index_select(0, index);
+    sin = sin.index_select(0, index);
+    ind = std::move(kept_ind);
+    for (auto i : ind) ++counts[static_cast<std::size_t>(i)];
+  };
+
+  int layer = 0;
+  for (layer = 0; layer < arch.n_layers; ++layer) {
+    if (desc0.size(0) == 0 || desc1.size(0) == 0) break;
+    desc0 = net.self_attention(net.self_blocks[layer], desc0, cos0, sin0);
+    desc1 = net.self_attention(net.self_blocks[layer], desc1, cos1, sin1);
+    net.cross_attention(net.cross_blocks[layer], desc0, desc1);
+    if (trace && layer == 0) {
+      trace->desc0_after_layer0 = to_eigen(desc0);
+      trace->desc1_after_layer0 = to_eigen(desc1);
+    }
+    if (layer == arch.n_layers - 1) continue;  // no exit or pruning after the last layer
+
+    at::Tensor token0, token1;
+    const float threshold = net.thresholds[static_cast<std::size_t>(layer)];
+    if (early_stop) {
+      token0 = net.token[layer](desc0).sigmoid().squeeze(1);
+      token1 = net.token[layer](desc1).sigmoid().squeeze(1);
+      // Fraction of confident points; pruned points count as confident (denominator M + N).
+      const auto unconfident = token0.lt(threshold).sum().item<std::int64_t>() + token1.lt(threshold).sum().item<std::int64_t>();
+      const float ratio = 1.0f - static_cast<float>(unconfident) / static_cast<float>(m + n);
+      if (ratio > config_.depth_confidence) break;
+    }
+    if (pruning) {
+      const float min_matchability = 1.0f - config_.width_confidence;
+      const auto keep_mask = [&](const at::Tensor& desc, const at::Tensor& token) {
+        at::Tensor keep = net.matchability(layer, desc).gt(min_matchability);
+        if (token.defined()) keep = keep.logical_or(token.le(threshold));  // unsure points are never pruned
+        return keep;
+      };
+      if (desc0.size(0) > config_.pruning_keypoint_threshold) prune(keep_mask(desc0, token0), desc0, cos0, sin0, ind0, prune0);
+      if (desc1.size(0) > config_.pruning_keypoint_threshold) prune(keep_mask(desc1, token1), desc1, cos1, sin1, ind1, prune1);
+    }
+  }
+  const int last = std::min(layer, arch.n_layers - 1);
+
+  LightGlueResult r;
+  r.stop = last + 1;
+  r.matches0 = Eigen::VectorXi::Constant(m, -1);
+  r.matches1 = Eigen::VectorXi::Constant(n, -1);
+  r.matching_scores0 = Eigen::VectorXf::Zero(m);
+  r.matching_scores1 = Eigen::VectorXf::Zero(n);
+  if (pruning) {
+    r.prune0 = Eigen::Map<const Eigen::VectorXi>(prune0.data(), m);
+    r.prune1 = Eigen::Map<const Eigen::VectorXi>(prune1.data(), n);
+  } else {
+    r.prune0 = Eigen::VectorXi::Constant(m, arch.n_layers);
+    r.prune1 = Eigen::VectorXi::Constant(n, arch.n_layers);
+  }
+  if (desc0.size(0) == 0 || desc1.size(0) == 0) return r;
+
+  const at::Tensor scores = net.log_assignment(last, desc0, desc1);
+  if (trace && trace->want_log_assignment) trace->log_assignment = to_eigen(scores);
+  const auto fm = filter_matches(scores, config_.filter_threshold);
+  std::vector<std::pair<int, int>> pairs;
+  std::vector<float> pair_scores;
+  for (std::size_t i = 0; i < fm.m0.size(); ++i) {
+    const auto oi = ind0[i];
+    r.matching_scores0(oi) = fm.s0[i];
+    if (fm.m0[i] >= 0) {
+      r.matches0(oi) = static_cast<int>(ind1[static_cast<std::size_t>(fm.m0[i])]);
+      pairs.emplace_back(static_cast<int>(oi), r.matches0(oi));
+      pair_scores.push_back(fm.s0[i]);
+    }
+  }
+  for (std::size_t j = 0; j < fm.m1.size(); ++j) {
+    const auto oj = ind1[j];
+    r.matching_scores1(oj) = fm.s1[j];
+    if (fm.m1[j] >= 0) r.matches1(oj) = static_cast<int>(ind0[static_cast<std::size_t>(fm.m1[j])]);
+  }
+  // ind0 is ascending, so pairs already are in ascending index0 order.
+  r.matches.pairs.resize(static_cast<Eigen::Index>(pairs.size()), 2);
+  r.matches.scores.resize(static_cast<Eigen::Index>(pairs.size()));
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    r.matches.pairs(k, 0) = pairs[k].first;
+    r.matches.pairs(k, 1) = pairs[k].second;
+    r.matches.scores(k) = pair_scores[k];
+  }
+  return r;
+}
+
+}  // namespace pllvo::nn

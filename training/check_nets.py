@@ -1,0 +1,137 @@
+#!/usr/bin/env python3
+"""Checks pllvo's PyTorch reference networks (training/pllvo_nets) against the official
+test vectors in ../shared/testvectors, with the tolerances of their READMEs.
+
+    python3 training/check_nets.py [--shared ../shared]
+
+Exit status 0 when every check passes; one line per check either way.
+"""
+import argparse
+import json
+import os
+import sys
+
+import numpy as np
+import torch
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pllvo_nets.image_io import read_png  # noqa: E402
+from pllvo_nets.lightglue import LightGlue, lightglue_conf_from_state_dict  # noqa: E402
+from pllvo_nets.safetensors_io import load_safetensors  # noqa: E402
+from pllvo_nets.superpoint import SuperPoint  # noqa: E402
+
+failures = []
+
+
+def check(name, ok, detail=""):
+    print(f"{'ok  ' if ok else 'FAIL'} {name} {detail}")
+    if not ok:
+        failures.append(name)
+
+
+def max_abs(a, b):
+    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+    return float(np.abs(a - b).max()) if a.size else 0.0
+
+
+def check_superpoint(root):
+    sp_dir = os.path.join(root, "testvectors", "superpoint")
+    weights, _ = load_safetensors(os.path.join(sp_dir, "superpoint_random_weights.safetensors"))
+    images = ["icl250_640x480", "icl254_640x480", "sacre_coeur1_752x480", "sacre_coeur2_752x480"]
+    for image in images:
+        gray = torch.from_numpy(read_png(os.path.join(sp_dir, image + ".png"))).float() / 255
+        for config in ["dense", "kall", "k512"]:
+            path = os.path.join(sp_dir, f"{image}_{config}.safetensors")
+            if not os.path.exists(path):
+                continue
+            ref, _ = load_safetensors(path)
+            net = SuperPoint(max_num_keypoints=512 if config == "k512" else None).eval()
+            net.load_state_dict({k: torch.from_numpy(v.astype(np.float32)) for k, v in weights.items()})
+            with torch.no_grad():
+                out = net(gray[None, None])
+            tag = f"superpoint {image} {config}"
+            if config == "dense":
+                e = max_abs(ref["scores_dense"], out["scores_dense"][0])
+                check(tag + " scores_dense", e <= 1e-4, f"max abs {e:.2e}")
+                sub = out["descriptors_dense"][0][ref["descriptors_dense_channels"]]
+                e = max_abs(ref["descriptors_dense_sub"], sub)
+                check(tag + " descriptors_dense_sub", e <= 1e-4, f"max abs {e:.2e}")
+                continue
+            kp = out["keypoints"][0].numpy()
+            check(tag + " keypoints (set and order)", kp.shape == ref["keypoints"].shape and (kp == ref["keypoints"]).all(),
+                  f"{len(kp)} vs {len(ref['keypoints'])}")
+            if kp.shape == ref["keypoints"].shape:
+                e = max_abs(ref["keypoint_scores"], out["keypoint_scores"][0])
+                check(tag + " keypoint_scores", e <= 1e-5, f"max abs {e:.2e}")
+                e = max_abs(ref["descriptors"], out["descriptors"][0])
+                check(tag + " descriptors", e <= 1e-4, f"max abs {e:.2e}")
+
+
+def check_lightglue(root):
+    lg_dir = os.path.join(root, "testvectors", "lightglue")
+    base, _ = load_safetensors(os.path.join(lg_dir, "lightglue_sp_random_l9_d256.safetensors"))
+    override, _ = load_safetensors(os.path.join(lg_dir, "lightglue_sp_random_l9_d256_b_token_confidence.safetensors"))
+    small, _ = load_safetensors(os.path.join(lg_dir, "lightglue_random_l3_d64.safetensors"))
+    weights = {"a": base, "b": {**base, **override}, "c": small}
+    for setting in "abc":
+        for pair in "AB":
+            ref, meta = load_safetensors(os.path.join(lg_dir, f"{setting}_pair{pair}.safetensors"))
+            conf = json.loads(meta["conf"])
+            state = {k: torch.from_numpy(v.astype(np.float32)) for k, v in weights[setting].items()}
+            net = LightGlue(
+                **lightglue_conf_from_state_dict(state),
+                depth_confidence=conf["depth_confidence"],
+                width_confidence=conf["width_confidence"],
+                filter_threshold=conf["filter_threshold"],
+                pruning_keypoint_threshold=-1,
+            ).eval()
+            net.load_state_dict(state)
+            data = []
+            for key in ("image0", "image1"):
+                f, _ = load_safetensors(os.path.join(root, "testvectors", meta[key]))
+                data.append({
+                    "keypoints": torch.from_numpy(f["keypoints"])[None],
+                    "descriptors": torch.from_numpy(f["descriptors"])[None],
+                    "image_size": torch.from_numpy(f["image_size"]).float()[None],
+                })
+            trace = {}
+            with torch.no_grad():
+                out = net(data[0], data[1], trace=trace)
+            tag = f"lightglue {setting} pair{pair}"
+            check(tag + " stop", out["stop"] == int(ref["stop"][0]), f"{out['stop']} vs {int(ref['stop'][0])}")
+            for key in ("matches0", "matches1", "prune0", "prune1", "matches"):
+                ok = tuple(out[key].shape) == ref[key].shape and (out[key].numpy() == ref[key]).all()
+                check(f"{tag} {key}", ok)
+            for key in ("matching_scores0", "matching_scores1", "scores"):
+                e = max_abs(ref[key], out[key]) if tuple(out[key].shape) == ref[key].shape else np.inf
+                check(f"{tag} {key}", e <= 1e-4, f"max abs {e:.2e}")
+            la = trace["log_assignment"].numpy()
+            if "log_assignment" in ref:
+                excess = float((np.abs(ref["log_assignment"] - la) - 1e-5 * np.abs(ref["log_assignment"])).max())
+                check(tag + " log_assignment", excess <= 1e-3, f"max abs - 1e-5|ref| {excess:.2e}")
+            if "log_assignment_rows" in ref:
+                rows = la[ref["log_assignment_row_index"]]
+                excess = float((np.abs(ref["log_assignment_rows"] - rows) - 1e-5 * np.abs(ref["log_assignment_rows"])).max())
+                check(tag + " log_assignment_rows", excess <= 1e-3, f"max abs - 1e-5|ref| {excess:.2e}")
+            if "posenc0_first256" in ref:
+                for side in "01":
+                    e = max_abs(ref["posenc" + side + "_first256"], trace["posenc" + side][:, 0, 0, :256])
+                    check(f"{tag} posenc{side}_first256", e <= 1e-4, f"max abs {e:.2e}")
+                    e = max_abs(ref[f"desc{side}_after_layer0"], trace[f"desc{side}_after_layer0"])
+                    check(f"{tag} desc{side}_after_layer0", e <= 1e-4, f"max abs {e:.2e}")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    here = os.path.dirname(os.path.abspath(__file__))
+    parser.add_argument("--shared", default=os.environ.get("PLLVO_SHARED", os.path.join(here, "..", "..", "shared")))
+    args = parser.parse_args()
+    torch.set_grad_enabled(False)
+    check_superpoint(args.shared)
+    check_lightglue(args.shared)
+    print(f"{len(failures)} failed" if failures else "all checks passed")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
