@@ -22,6 +22,7 @@ import os
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -185,11 +186,12 @@ def bench_name(kind, params, threads):
 
 def run_cpp(kind, params, threads, repetitions):
     name = bench_name(kind, params, threads)
-    cmd = [ARGS.bench, f"--benchmark_filter=^{name}/", f"--benchmark_repetitions={repetitions}",
-           "--benchmark_format=json", "--benchmark_report_aggregates_only=false"]
-    env = {k: v for k, v in os.environ.items() if k not in MALLOC_TUNING}  # C++ tunes itself
-    out = subprocess.run(cmd, capture_output=True, text=True, check=True, env=env)
-    report = json.loads(out.stdout)
+    with tempfile.NamedTemporaryFile(suffix=".json") as result:
+        cmd = [ARGS.bench, f"--benchmark_filter=^{name}/", f"--benchmark_repetitions={repetitions}",
+               f"--benchmark_out={result.name}", "--benchmark_out_format=json"]
+        env = {k: v for k, v in os.environ.items() if k not in MALLOC_TUNING}  # C++ tunes itself
+        out = subprocess.run(cmd, capture_output=True, text=True, check=True, env=env)
+        report = json.load(open(result.name))
     runs = [b for b in report["benchmarks"] if b.get("run_type") == "iteration"]
     if not runs:
         raise RuntimeError(f"{name}: no runs ({out.stderr.strip()})")

@@ -121,6 +121,39 @@ def check_lightglue(root):
                     check(f"{tag} desc{side}_after_layer0", e <= 1e-4, f"max abs {e:.2e}")
 
 
+def check_lightglue_training_path(root):
+    """forward_train on a padded batch gives the same last-layer log-assignment as forward."""
+    lg_dir = os.path.join(root, "testvectors", "lightglue")
+    state = {k: torch.from_numpy(v.astype(np.float32))
+             for k, v in load_safetensors(os.path.join(lg_dir, "lightglue_random_l3_d64.safetensors"))[0].items()}
+    net = LightGlue(**lightglue_conf_from_state_dict(state), depth_confidence=-1, width_confidence=-1).eval()
+    net.load_state_dict(state)
+    feats = []
+    for name in ("icl250_640x480_k512", "icl254_640x480_k512"):
+        f, _ = load_safetensors(os.path.join(root, "testvectors", "superpoint", name + ".safetensors"))
+        feats.append({"keypoints": torch.from_numpy(f["keypoints"])[None], "descriptors": torch.from_numpy(f["descriptors"])[None],
+                      "image_size": torch.from_numpy(f["image_size"]).float()[None]})
+    trace = {}
+    net(feats[0], feats[1], trace=trace)
+    # Batch of two: the pair itself, and the pair with image 0 cut to 400 points (padded back to 512).
+    m, n = 512, 512
+    batch = [{k: torch.cat([f[k], f[k]]) for k in f} for f in feats]
+    mask0 = torch.ones(2, m, dtype=torch.bool)
+    mask0[1, 400:] = False
+    mask1 = torch.ones(2, n, dtype=torch.bool)
+    out = net.forward_train(batch[0], batch[1], mask0, mask1)
+    last = out["log_assignment"][-1]
+    e = max_abs(trace["log_assignment"], last[0])
+    check("lightglue forward_train = forward (batch item 0)", e <= 1e-3, f"max abs {e:.2e}")
+    cut = {k: (v[:, :400] if k != "image_size" else v) for k, v in feats[0].items()}
+    trace_cut = {}
+    net(cut, feats[1], trace=trace_cut)
+    ref = trace_cut["log_assignment"]
+    ours = torch.cat([last[1, :400, : n + 1], last[1, m : m + 1, : n + 1]])  # real rows + dustbin row
+    e = max_abs(ref, ours)
+    check("lightglue forward_train padded item = forward on the unpadded pair", e <= 1e-3, f"max abs {e:.2e}")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     here = os.path.dirname(os.path.abspath(__file__))
@@ -129,6 +162,7 @@ def main():
     torch.set_grad_enabled(False)
     check_superpoint(args.shared)
     check_lightglue(args.shared)
+    check_lightglue_training_path(args.shared)
     print(f"{len(failures)} failed" if failures else "all checks passed")
     return 1 if failures else 0
 

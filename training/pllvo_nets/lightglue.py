@@ -138,11 +138,18 @@ class MatchAssignment(nn.Module):
         self.matchability = nn.Linear(dim, 1)
         self.final_proj = nn.Linear(dim, dim)
 
-    def forward(self, desc0, desc1):
+    def forward(self, desc0, desc1, mask=None):
+        """mask [B, M, N] (True: both points real) keeps padding out of the softmaxes; padded
+        entries of the result are -inf."""
         d = desc0.shape[-1]
         md0, md1 = self.final_proj(desc0) / d**0.25, self.final_proj(desc1) / d**0.25
         sim = torch.einsum("bmd,bnd->bmn", md0, md1)
-        return log_double_softmax(sim, self.matchability(desc0), self.matchability(desc1)), sim
+        if mask is not None:
+            sim = sim.masked_fill(~mask, -float("inf"))
+        scores = log_double_softmax(sim, self.matchability(desc0), self.matchability(desc1))
+        if mask is not None:
+            scores = torch.where(torch.isnan(scores), scores.new_tensor(-float("inf")), scores)
+        return scores, sim
 
     def matchability_prob(self, desc):
         return torch.sigmoid(self.matchability(desc)).squeeze(-1)
@@ -226,7 +233,9 @@ class LightGlue(nn.Module):
 
     def forward_train(self, data0, data1, mask0=None, mask1=None):
         """Every layer on a batch. mask0 [B, M], mask1 [B, N]: True for real (not padding)
-        points. Returns log_assignment (list over layers of [B, M+1, N+1]) and token0/token1
+        points; padding stays out of attention and of the assignment softmaxes (padded pairs
+        get -inf; the dustbin entries of padded points are meaningless: leave them out of the
+        loss). Returns log_assignment (list over layers of [B, M+1, N+1]) and token0/token1
         (lists over the first n_layers-1 layers)."""
         desc0, desc1, enc0, enc1 = self.encode(data0, data1)
         masks = (None, None, None)
@@ -239,7 +248,8 @@ class LightGlue(nn.Module):
         out = {"log_assignment": [], "token0": [], "token1": []}
         for i, layer in enumerate(self.transformers):
             desc0, desc1 = layer(desc0, desc1, enc0, enc1, *masks)
-            out["log_assignment"].append(self.log_assignment[i](desc0, desc1)[0])
+            pair_mask = None if masks[2] is None else masks[2][:, 0]
+            out["log_assignment"].append(self.log_assignment[i](desc0, desc1, pair_mask)[0])
             if i < len(self.token_confidence):
                 token0, token1 = self.token_confidence[i](desc0, desc1)
                 out["token0"].append(token0)

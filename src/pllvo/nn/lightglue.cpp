@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <numeric>
 #include <regex>
 #include <set>
 
@@ -148,6 +149,53 @@ SafeTensors load_weights_with_overrides(const std::filesystem::path& file,
 // ---------------------------------------------------------------------------------------
 // The network
 
+namespace {
+
+at::Tensor features_tensor(const float* data, std::int64_t rows, std::int64_t cols) {
+  at::Tensor t = at::empty({rows, cols}, at::TensorOptions().dtype(at::kFloat));
+  if (rows * cols > 0) std::memcpy(t.data_ptr<float>(), data, sizeof(float) * static_cast<std::size_t>(rows * cols));
+  return t;
+}
+
+Eigen::MatrixXf to_eigen(const at::Tensor& t) {
+  const at::Tensor c = t.contiguous();
+  using RowMajor = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  return Eigen::Map<const RowMajor>(c.data_ptr<float>(), c.size(0), c.size(1));
+}
+
+at::Tensor index_tensor(const std::vector<std::int64_t>& rows) {
+  at::Tensor index = at::empty({static_cast<std::int64_t>(rows.size())}, at::TensorOptions().dtype(at::kLong));
+  if (!rows.empty()) std::memcpy(index.data_ptr<std::int64_t>(), rows.data(), rows.size() * sizeof(std::int64_t));
+  return index;
+}
+
+// The points of one image still in play: descriptors, rotary encoding (cos, sin [N, 1, dh/2]),
+// their original indices, and how many layers each original point went through.
+struct PointSet {
+  at::Tensor desc, cos, sin;
+  std::vector<std::int64_t> index;
+  std::vector<int> layers;
+
+  std::int64_t size() const { return desc.size(0); }
+
+  // Adaptive width: keeps the points where `keep` is true; the survivors go on one layer more.
+  void prune(const at::Tensor& keep) {
+    const at::Tensor k = keep.contiguous();
+    const bool* flags = k.data_ptr<bool>();
+    std::vector<std::int64_t> rows, kept;
+    for (std::int64_t r = 0; r < k.size(0); ++r)
+      if (flags[r]) rows.push_back(r), kept.push_back(index[static_cast<std::size_t>(r)]);
+    const at::Tensor rows_t = index_tensor(rows);
+    desc = desc.index_select(0, rows_t);
+    cos = cos.index_select(0, rows_t);
+    sin = sin.index_select(0, rows_t);
+    index = std::move(kept);
+    for (const auto i : index) ++layers[static_cast<std::size_t>(i)];
+  }
+};
+
+}  // namespace
+
 struct LightGlue::Net {
   struct Linear {
     at::Tensor weight, bias;
@@ -183,6 +231,25 @@ struct LightGlue::Net {
   std::vector<Linear> token;
   std::vector<float> thresholds;
 
+  // Wqkv row f = head*3*dh + j*3 + s holds q (s=0), k (1) or v (2) of feature j. Returns the
+  // rows regrouped as [q; k; v], with q's and k's features ordered [even | odd] inside each head.
+  static Linear regroup_qkv(const Linear& qkv, std::int64_t h, std::int64_t dh) {
+    const std::int64_t d = h * dh;
+    const at::Tensor even_odd = at::cat({at::arange(0, dh, 2), at::arange(1, dh, 2)});
+    std::vector<at::Tensor> weights, biases;
+    for (int part = 0; part < 3; ++part) {
+      at::Tensor w = qkv.weight.view({h, dh, 3, d}).select(2, part);  // [h, dh, d]
+      at::Tensor b = qkv.bias.view({h, dh, 3}).select(2, part);       // [h, dh]
+      if (part < 2) {
+        w = w.index_select(1, even_odd);
+        b = b.index_select(1, even_odd);
+      }
+      weights.push_back(w.reshape({d, d}));
+      biases.push_back(b.reshape({d}));
+    }
+    return {at::cat(weights, 0).contiguous(), at::cat(biases, 0).contiguous()};
+  }
+
   explicit Net(const SafeTensors& raw) {
     const SafeTensors st = renamed(raw);
     arch = lightglue_architecture(st);
@@ -213,20 +280,8 @@ struct LightGlue::Net {
     posenc_wr = tensor("posenc.Wr.weight", {dh / 2, 2});
     for (int i = 0; i < arch.n_layers; ++i) {
       const std::string p = "transformers." + std::to_string(i);
-      // Wqkv row f = head*3*dh + j*3 + s holds q (s=0), k (1) or v (2) of feature j.
-      const Linear qkv = linear(p + ".self_attn.Wqkv", 3 * d, d);
-      const auto w = qkv.weight.view({h, dh, 3, d});
-      const auto b = qkv.bias.view({h, dh, 3});
       SelfBlock s;
-      const at::Tensor even_odd = at::cat({at::arange(0, dh, 2), at::arange(1, dh, 2)});
-      const auto part = [&](const at::Tensor& t, int which, bool permute) {
-        const at::Tensor p = t.select(2, which);  // [h, dh(, d)]
-        return (permute ? p.index_select(1, even_odd) : p).reshape({d, -1}).squeeze(1);
-      };
-      s.qkv.weight = at::cat({part(w, 0, true), part(w, 1, true), part(w, 2, false)}, 0).contiguous();
-      s.qkv.bias = at::cat({part(b.unsqueeze(3), 0, true), part(b.unsqueeze(3), 1, true), part(b.unsqueeze(3), 2, false)}, 0)
-                       .reshape({3 * d})
-                       .contiguous();
+      s.qkv = regroup_qkv(linear(p + ".self_attn.Wqkv", 3 * d, d), h, dh);
       s.out_proj = linear(p + ".self_attn.out_proj", d, d);
       s.ffn = ffn(p + ".self_attn.ffn");
       self_blocks.push_back(std::move(s));
@@ -323,21 +378,60 @@ struct LightGlue::Net {
   at::Tensor matchability(int layer, const at::Tensor& d) const {
     return assignment[static_cast<std::size_t>(layer)].matchability(d).sigmoid().squeeze(1);
   }
+
+  // Projected descriptors and the rotary encoding p = kn Wr^T (one frequency per feature pair).
+  PointSet encode(const Features& f, const at::Tensor& normalized_keypoints) const {
+    PointSet p;
+    p.desc = features_tensor(f.descriptors.data(), f.size(), arch.input_dim);
+    if (has_input_proj) p.desc = input_proj(p.desc);
+    const at::Tensor freq = at::mm(normalized_keypoints, posenc_wr.t());  // [N, dh/2]
+    p.cos = freq.cos().unsqueeze(1);
+    p.sin = freq.sin().unsqueeze(1);
+    p.index.resize(static_cast<std::size_t>(f.size()));
+    std::iota(p.index.begin(), p.index.end(), 0);
+    p.layers.assign(static_cast<std::size_t>(f.size()), 1);
+    return p;
+  }
+
+  // The transformer layers with adaptive depth and width; returns the index of the last layer run.
+  int run_layers(PointSet& p0, PointSet& p1, const LightGlueConfig& config, LightGlueTrace* trace) const {
+    const std::int64_t total = static_cast<std::int64_t>(p0.layers.size() + p1.layers.size());
+    int layer = 0;
+    for (; layer < arch.n_layers; ++layer) {
+      if (p0.size() == 0 || p1.size() == 0) break;
+      p0.desc = self_attention(self_blocks[layer], p0.desc, p0.cos, p0.sin);
+      p1.desc = self_attention(self_blocks[layer], p1.desc, p1.cos, p1.sin);
+      cross_attention(cross_blocks[layer], p0.desc, p1.desc);
+      if (trace && layer == 0) {
+        trace->desc0_after_layer0 = to_eigen(p0.desc);
+        trace->desc1_after_layer0 = to_eigen(p1.desc);
+      }
+      if (layer == arch.n_layers - 1) break;  // no exit or pruning after the last layer
+
+      at::Tensor token0, token1;
+      const float threshold = thresholds[static_cast<std::size_t>(layer)];
+      if (config.depth_confidence > 0.0f) {
+        token0 = token[layer](p0.desc).sigmoid().squeeze(1);
+        token1 = token[layer](p1.desc).sigmoid().squeeze(1);
+        // Share of confident points; pruned points count as confident (denominator M + N).
+        const auto unsure = token0.lt(threshold).sum().item<std::int64_t>() + token1.lt(threshold).sum().item<std::int64_t>();
+        if (1.0f - static_cast<float>(unsure) / static_cast<float>(total) > config.depth_confidence) break;
+      }
+      if (config.width_confidence > 0.0f) {
+        const float min_matchability = 1.0f - config.width_confidence;
+        for (auto [points, tok] : {std::pair{&p0, &token0}, std::pair{&p1, &token1}}) {
+          if (points->size() <= config.pruning_keypoint_threshold) continue;
+          at::Tensor keep = matchability(layer, points->desc).gt(min_matchability);
+          if (tok->defined()) keep = keep.logical_or(tok->le(threshold));  // unsure points are never pruned
+          points->prune(keep);
+        }
+      }
+    }
+    return std::min(layer, arch.n_layers - 1);
+  }
 };
 
 namespace {
-
-at::Tensor features_tensor(const float* data, std::int64_t rows, std::int64_t cols) {
-  at::Tensor t = at::empty({rows, cols}, at::TensorOptions().dtype(at::kFloat));
-  if (rows * cols > 0) std::memcpy(t.data_ptr<float>(), data, sizeof(float) * static_cast<std::size_t>(rows * cols));
-  return t;
-}
-
-Eigen::MatrixXf to_eigen(const at::Tensor& t) {
-  const at::Tensor c = t.contiguous();
-  using RowMajor = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  return Eigen::Map<const RowMajor>(c.data_ptr<float>(), c.size(0), c.size(1));
-}
 
 // (kp - size/2) / (max(W, H)/2), as the official normalize_keypoints.
 at::Tensor normalize_keypoints(const Features& f) {
@@ -455,134 +549,59 @@ const LightGlueArchitecture& LightGlue::architecture() const { return net_->arch
 
 LightGlueResult LightGlue::match(const Features& f0, const Features& f1, LightGlueTrace* trace) const {
   const Net& net = *net_;
-  const auto& arch = net.arch;
-  check_features(f0, arch.input_dim, "image 0");
-  check_features(f1, arch.input_dim, "image 1");
+  check_features(f0, net.arch.input_dim, "image 0");
+  check_features(f1, net.arch.input_dim, "image 1");
   c10::InferenceMode guard;
 
-  const std::int64_t m = f0.size(), n = f1.size(), dh = arch.head_dim();
   const at::Tensor kn0 = normalize_keypoints(f0), kn1 = normalize_keypoints(f1);
-  at::Tensor desc0 = features_tensor(f0.descriptors.data(), m, arch.input_dim);
-  at::Tensor desc1 = features_tensor(f1.descriptors.data(), n, arch.input_dim);
-  if (net.has_input_proj) {
-    desc0 = net.input_proj(desc0);
-    desc1 = net.input_proj(desc1);
-  }
-  // Rotary encoding: p = kn Wr^T, one frequency per pair of features.
-  const at::Tensor p0 = at::mm(kn0, net.posenc_wr.t()), p1 = at::mm(kn1, net.posenc_wr.t());  // [N, dh/2]
-  at::Tensor cos0 = p0.cos().unsqueeze(1), sin0 = p0.sin().unsqueeze(1);                     // [N, 1, dh/2]
-  at::Tensor cos1 = p1.cos().unsqueeze(1), sin1 = p1.sin().unsqueeze(1);
+  PointSet p0 = net.encode(f0, kn0), p1 = net.encode(f1, kn1);
   if (trace) {
     // As the official encoding: each frequency repeated for its pair, [N, dh].
-    const auto pairs = [&](const at::Tensor& t) { return t.squeeze(1).unsqueeze(2).expand({t.size(0), dh / 2, 2}).reshape({t.size(0), dh}); };
+    const std::int64_t dh = net.arch.head_dim();
+    const auto pairs = [&](const at::Tensor& t) {
+      return to_eigen(t.squeeze(1).unsqueeze(2).expand({t.size(0), dh / 2, 2}).reshape({t.size(0), dh}));
+    };
     trace->keypoints_normalized0 = to_eigen(kn0);
     trace->keypoints_normalized1 = to_eigen(kn1);
-    trace->posenc_cos0 = to_eigen(pairs(cos0));
-    trace->posenc_sin0 = to_eigen(pairs(sin0));
-    trace->posenc_cos1 = to_eigen(pairs(cos1));
-    trace->posenc_sin1 = to_eigen(pairs(sin1));
+    trace->posenc_cos0 = pairs(p0.cos);
+    trace->posenc_sin0 = pairs(p0.sin);
+    trace->posenc_cos1 = pairs(p1.cos);
+    trace->posenc_sin1 = pairs(p1.sin);
   }
-
-  const bool early_stop = config_.depth_confidence > 0.0f;
-  const bool pruning = config_.width_confidence > 0.0f;
-  std::vector<std::int64_t> ind0(static_cast<std::size_t>(m)), ind1(static_cast<std::size_t>(n));
-  for (std::int64_t i = 0; i < m; ++i) ind0[i] = i;
-  for (std::int64_t j = 0; j < n; ++j) ind1[j] = j;
-  std::vector<int> prune0(static_cast<std::size_t>(m), 1), prune1(static_cast<std::size_t>(n), 1);
-
-  // Keeps the rows where keep is true, in every per-point tensor of one image.
-  const auto prune = [&](const at::Tensor& keep, at::Tensor& desc, at::Tensor& cos, at::Tensor& sin,
-                         std::vector<std::int64_t>& ind, std::vector<int>& counts) {
-    const at::Tensor k = keep.contiguous();
-    const bool* keep_ptr = k.data_ptr<bool>();
-    std::vector<std::int64_t> rows, kept_ind;
-    for (std::int64_t r = 0; r < k.size(0); ++r)
-      if (keep_ptr[r]) rows.push_back(r), kept_ind.push_back(ind[static_cast<std::size_t>(r)]);
-    const at::Tensor index = at::empty({static_cast<std::int64_t>(rows.size())}, at::TensorOptions().dtype(at::kLong));
-    if (!rows.empty()) std::memcpy(index.data_ptr<std::int64_t>(), rows.data(), rows.size() * sizeof(std::int64_t));
-    desc = desc.index_select(0, index);
-    cos = cos.index_select(0, index);
-    sin = sin.index_select(0, index);
-    ind = std::move(kept_ind);
-    for (auto i : ind) ++counts[static_cast<std::size_t>(i)];
-  };
-
-  int layer = 0;
-  for (layer = 0; layer < arch.n_layers; ++layer) {
-    if (desc0.size(0) == 0 || desc1.size(0) == 0) break;
-    desc0 = net.self_attention(net.self_blocks[layer], desc0, cos0, sin0);
-    desc1 = net.self_attention(net.self_blocks[layer], desc1, cos1, sin1);
-    net.cross_attention(net.cross_blocks[layer], desc0, desc1);
-    if (trace && layer == 0) {
-      trace->desc0_after_layer0 = to_eigen(desc0);
-      trace->desc1_after_layer0 = to_eigen(desc1);
-    }
-    if (layer == arch.n_layers - 1) continue;  // no exit or pruning after the last layer
-
-    at::Tensor token0, token1;
-    const float threshold = net.thresholds[static_cast<std::size_t>(layer)];
-    if (early_stop) {
-      token0 = net.token[layer](desc0).sigmoid().squeeze(1);
-      token1 = net.token[layer](desc1).sigmoid().squeeze(1);
-      // Fraction of confident points; pruned points count as confident (denominator M + N).
-      const auto unconfident = token0.lt(threshold).sum().item<std::int64_t>() + token1.lt(threshold).sum().item<std::int64_t>();
-      const float ratio = 1.0f - static_cast<float>(unconfident) / static_cast<float>(m + n);
-      if (ratio > config_.depth_confidence) break;
-    }
-    if (pruning) {
-      const float min_matchability = 1.0f - config_.width_confidence;
-      const auto keep_mask = [&](const at::Tensor& desc, const at::Tensor& token) {
-        at::Tensor keep = net.matchability(layer, desc).gt(min_matchability);
-        if (token.defined()) keep = keep.logical_or(token.le(threshold));  // unsure points are never pruned
-        return keep;
-      };
-      if (desc0.size(0) > config_.pruning_keypoint_threshold) prune(keep_mask(desc0, token0), desc0, cos0, sin0, ind0, prune0);
-      if (desc1.size(0) > config_.pruning_keypoint_threshold) prune(keep_mask(desc1, token1), desc1, cos1, sin1, ind1, prune1);
-    }
-  }
-  const int last = std::min(layer, arch.n_layers - 1);
+  const int last = net.run_layers(p0, p1, config_, trace);
 
   LightGlueResult r;
+  const std::int64_t m = f0.size(), n = f1.size();
   r.stop = last + 1;
   r.matches0 = Eigen::VectorXi::Constant(m, -1);
   r.matches1 = Eigen::VectorXi::Constant(n, -1);
   r.matching_scores0 = Eigen::VectorXf::Zero(m);
   r.matching_scores1 = Eigen::VectorXf::Zero(n);
-  if (pruning) {
-    r.prune0 = Eigen::Map<const Eigen::VectorXi>(prune0.data(), m);
-    r.prune1 = Eigen::Map<const Eigen::VectorXi>(prune1.data(), n);
-  } else {
-    r.prune0 = Eigen::VectorXi::Constant(m, arch.n_layers);
-    r.prune1 = Eigen::VectorXi::Constant(n, arch.n_layers);
-  }
-  if (desc0.size(0) == 0 || desc1.size(0) == 0) return r;
+  const bool pruning = config_.width_confidence > 0.0f;
+  r.prune0 = pruning ? Eigen::Map<const Eigen::VectorXi>(p0.layers.data(), m).eval() : Eigen::VectorXi::Constant(m, net.arch.n_layers);
+  r.prune1 = pruning ? Eigen::Map<const Eigen::VectorXi>(p1.layers.data(), n).eval() : Eigen::VectorXi::Constant(n, net.arch.n_layers);
+  r.matches.pairs.resize(0, 2);
+  if (p0.size() == 0 || p1.size() == 0) return r;
 
-  const at::Tensor scores = net.log_assignment(last, desc0, desc1);
+  const at::Tensor scores = net.log_assignment(last, p0.desc, p1.desc);
   if (trace && trace->want_log_assignment) trace->log_assignment = to_eigen(scores);
   const auto fm = filter_matches(scores, config_.filter_threshold);
-  std::vector<std::pair<int, int>> pairs;
-  std::vector<float> pair_scores;
+  // Back to the original indices (the identity without pruning).
   for (std::size_t i = 0; i < fm.m0.size(); ++i) {
-    const auto oi = ind0[i];
-    r.matching_scores0(oi) = fm.s0[i];
-    if (fm.m0[i] >= 0) {
-      r.matches0(oi) = static_cast<int>(ind1[static_cast<std::size_t>(fm.m0[i])]);
-      pairs.emplace_back(static_cast<int>(oi), r.matches0(oi));
-      pair_scores.push_back(fm.s0[i]);
-    }
+    r.matching_scores0(p0.index[i]) = fm.s0[i];
+    if (fm.m0[i] >= 0) r.matches0(p0.index[i]) = static_cast<int>(p1.index[static_cast<std::size_t>(fm.m0[i])]);
   }
   for (std::size_t j = 0; j < fm.m1.size(); ++j) {
-    const auto oj = ind1[j];
-    r.matching_scores1(oj) = fm.s1[j];
-    if (fm.m1[j] >= 0) r.matches1(oj) = static_cast<int>(ind0[static_cast<std::size_t>(fm.m1[j])]);
+    r.matching_scores1(p1.index[j]) = fm.s1[j];
+    if (fm.m1[j] >= 0) r.matches1(p1.index[j]) = static_cast<int>(p0.index[static_cast<std::size_t>(fm.m1[j])]);
   }
-  // ind0 is ascending, so pairs already are in ascending index0 order.
-  r.matches.pairs.resize(static_cast<Eigen::Index>(pairs.size()), 2);
-  r.matches.scores.resize(static_cast<Eigen::Index>(pairs.size()));
-  for (std::size_t k = 0; k < pairs.size(); ++k) {
-    r.matches.pairs(k, 0) = pairs[k].first;
-    r.matches.pairs(k, 1) = pairs[k].second;
-    r.matches.scores(k) = pair_scores[k];
+  const auto k = (r.matches0.array() >= 0).count();
+  r.matches.pairs.resize(k, 2);
+  r.matches.scores.resize(k);
+  for (Eigen::Index i = 0, row = 0; i < m; ++i) {
+    if (r.matches0(i) < 0) continue;
+    r.matches.pairs.row(row) << static_cast<int>(i), r.matches0(i);
+    r.matches.scores(row++) = r.matching_scores0(i);
   }
   return r;
 }
