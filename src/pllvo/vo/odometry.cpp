@@ -115,8 +115,9 @@ bool Odometry::initialize(const io::Frame& frame, const cv::Mat& left, const cv:
                              : initialize_mono(frame, left, pyramid);
 }
 
-bool Odometry::initialize_stereo(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
-                                 const ImagePyramid& pyramid) {
+KeyframeJob Odometry::make_keyframe_job(const io::Frame& frame, const cv::Mat& left,
+                                        const cv::Mat& right, const ImagePyramid& pyramid,
+                                        KeyframeReason reason) const {
   KeyframeJob job;
   job.frame_index = frame.index;
   job.timestamp = frame.timestamp;
@@ -124,7 +125,13 @@ bool Odometry::initialize_stereo(const io::Frame& frame, const cv::Mat& left, co
   job.right = right;
   job.left_pyramid = pyramid;
   job.T_world_cam = T_world_work_;
-  job.reason = KeyframeReason::kInitialization;
+  job.reason = reason;
+  return job;
+}
+
+bool Odometry::initialize_stereo(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
+                                 const ImagePyramid& pyramid) {
+  KeyframeJob job = make_keyframe_job(frame, left, right, pyramid, KeyframeReason::kInitialization);
   job.first = true;
   const KeyframeResult result = processor_.process(job);
   if (!result.ok) return false;
@@ -417,14 +424,7 @@ void Odometry::maybe_make_keyframe(const io::Frame& frame, const cv::Mat& left, 
     stats_.add_count("keyframes_deferred");
     return;
   }
-  KeyframeJob job;
-  job.frame_index = frame.index;
-  job.timestamp = frame.timestamp;
-  job.left = left;
-  job.right = right;
-  job.left_pyramid = pyramid;
-  job.T_world_cam = T_world_work_;
-  job.reason = reason;
+  KeyframeJob job = make_keyframe_job(frame, left, right, pyramid, reason);
   job.tracks = tracks_;
   job.lines = line_tracks_;
   policy_.start_keyframe(frame.timestamp, tracked_points);

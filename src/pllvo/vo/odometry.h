@@ -62,6 +62,9 @@ class Odometry {
   };
 
   bool initialize(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right, const ImagePyramid& pyramid);
+  /// A keyframe job for this frame at the current pose (tracks and lines not filled in).
+  KeyframeJob make_keyframe_job(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
+                                const ImagePyramid& pyramid, KeyframeReason reason) const;
   bool initialize_stereo(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
                          const ImagePyramid& pyramid);
   bool initialize_mono(const io::Frame& frame, const cv::Mat& left, const ImagePyramid& pyramid);
