@@ -15,6 +15,8 @@ What goes in:
                     frames/<ns>.png, depth/<ns>.png (uint16 cm, nearest), meta.json with the pinhole K of the
                     half-resolution image and T_world_cam (row-major 4x4) per frame. Half resolution because the
                     VO runs SuperPoint at input scale 0.5: LightGlue is trained on the features it will see.
+  synth_eval/<name> held-out sequences (other scenes) in the same form, for evaluation only.
+  With --held-out: scannet_pairs and the TUM frames (evaluation images, never trained on).
 """
 import argparse
 import json
@@ -45,6 +47,25 @@ def pack_shared(out, quality):
     return count
 
 
+def pack_held_out(out):
+    """The evaluation images (never trained on), for running the benchmarks there too: scannet_pairs as is,
+    the TUM frames as grey PNG (the benchmarks read grey; a third of the size)."""
+    root = data_sources.shared_dir() / "data"
+    scannet = out / "shared" / "data" / "scannet_pairs"
+    (scannet / "images").mkdir(parents=True, exist_ok=True)
+    shutil.copy(root / "scannet_pairs" / "scannet_sample_pairs_with_gt.txt", scannet)
+    count = 0
+    for path in data_sources._images_in(root / "scannet_pairs" / "images"):
+        shutil.copy(path, scannet / "images" / path.name)
+        count += 1
+    tum = out / "shared" / "data" / "tum_fr3_office_snippet" / "rgb"
+    tum.mkdir(parents=True, exist_ok=True)
+    for path in data_sources._images_in(root / "tum_fr3_office_snippet" / "rgb"):
+        cv2.imwrite(str(tum / path.name), cv2.imread(str(path), cv2.IMREAD_GRAYSCALE), [cv2.IMWRITE_PNG_COMPRESSION, 9])
+        count += 1
+    return count
+
+
 def pack_photos(out):
     folder = data_sources.DEBIAN_PHOTOS
     paths = data_sources._images_in(folder) if folder.is_dir() else []
@@ -71,7 +92,7 @@ def quaternion_matrix(w, x, y, z):
                      [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
 
 
-def pack_synth(sequence, out, every, scale):
+def pack_synth(sequence, out, every, scale, max_frames=0, folder="synth"):
     cam = sequence / "mav0" / "cam0"
     distortion = read_matrix(cam / "sensor.yaml", "distortion_coefficients")
     if np.any(np.abs(distortion) > 0):
@@ -86,12 +107,12 @@ def pack_synth(sequence, out, every, scale):
         T[:3, :3] = quaternion_matrix(*map(float, v[4:8]))
         T[:3, 3] = list(map(float, v[1:4]))
         truth[int(v[0])] = T @ T_body_cam
-    target = out / "synth" / sequence.name
+    target = out / folder / sequence.name
     (target / "frames").mkdir(parents=True, exist_ok=True)
     (target / "depth").mkdir(parents=True, exist_ok=True)
     frames = []
     rows = (cam / "data.csv").read_text().splitlines()[1:]
-    for row in rows[::every]:
+    for row in rows[::every][:max_frames or None]:
         stamp = int(row.split(",")[0])
         if stamp not in truth:
             raise SystemExit(f"make_data_pack: error: {sequence}: no ground-truth pose at {stamp}")
@@ -117,6 +138,9 @@ def main():
     p.add_argument("--out", required=True)
     p.add_argument("--synth", nargs="*", default=[], help="`pllvo synth --depth` output folders (zero distortion)")
     p.add_argument("--synth-every", type=int, default=3, help="keep every n-th synthetic frame")
+    p.add_argument("--synth-max-frames", type=int, default=0, help="at most this many frames per sequence (0: all)")
+    p.add_argument("--synth-eval", nargs="*", default=[], help="held-out `pllvo synth --depth` folders -> synth_eval/")
+    p.add_argument("--held-out", action="store_true", help="also pack the held-out evaluation images")
     p.add_argument("--synth-scale", type=float, default=0.5)
     p.add_argument("--jpeg-quality", type=int, default=95)
     args = p.parse_args()
@@ -124,8 +148,14 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     print(f"shared images: {pack_shared(out, args.jpeg_quality)}")
     print(f"photographs: {pack_photos(out)}")
+    if args.held_out:
+        print(f"held-out images: {pack_held_out(out)}")
     for sequence in args.synth:
-        print(f"synth {Path(sequence).name}: {pack_synth(Path(sequence), out, args.synth_every, args.synth_scale)} frames")
+        count = pack_synth(Path(sequence), out, args.synth_every, args.synth_scale, args.synth_max_frames)
+        print(f"synth {Path(sequence).name}: {count} frames")
+    for sequence in args.synth_eval:
+        count = pack_synth(Path(sequence), out, args.synth_every, args.synth_scale, 0, "synth_eval")
+        print(f"synth_eval {Path(sequence).name}: {count} frames")
     size = sum(f.stat().st_size for f in out.rglob("*") if f.is_file())
     print(f"pack: {out} ({size / 2**20:.1f} MiB)")
 
