@@ -45,12 +45,12 @@ MatcherConfig resolve_matcher(const MatcherConfig& config, std::string* notice) 
   MatcherConfig resolved = config;
   if (config.type == "mnn") return resolved;
   if (config.type != "lightglue") throw InputError("matcher type '" + config.type + "' unknown (lightglue or mnn)");
-  const auto search = find_weights(config.lightglue.weights, kLightGlueWeights);  // throws for a wrong explicit path
+  const auto search = find_weights(config.lightglue.weights, lightglue_weight_names());  // throws for a wrong explicit path
   if (search.found) {
     resolved.lightglue.weights = *search.found;
     return resolved;
   }
-  const std::string message = "LightGlue weights " + search.not_found_message(kLightGlueWeights) +
+  const std::string message = "LightGlue weights " + search.not_found_message() +
                               "; falling back to the mutual-nearest-neighbour matcher (see docs/nn.md for the weights)";
   spdlog::warn("{}", message);
   if (notice) *notice = message;
