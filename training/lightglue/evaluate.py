@@ -105,7 +105,7 @@ def run_synth(pairs, extractor, matchers, args, device):
     rng = np.random.default_rng(args.seed)
     for s, seq in enumerate(pairs.sequences):
         for _ in range(args.synth_pairs):
-            gap = int(rng.integers(1, pairs.max_gap + 1))
+            gap = int(rng.integers(args.min_gap, args.max_gap + 1))
             a = int(rng.integers(len(seq.stamps) - gap))
             choice = (s, a, a + gap)
             image0, image1, w01, w10 = pairs.pair(rng, choice)
@@ -191,6 +191,10 @@ def main():
     p.add_argument("--superpoint", required=True)
     p.add_argument("--synth-dir", action="append", default=[], help="held-out packed synthetic sequence")
     p.add_argument("--synth-pairs", type=int, default=20, help="pairs per synthetic sequence")
+    p.add_argument("--min-gap", type=int, default=1, help="synthetic pairs: packed frames apart, at least")
+    p.add_argument("--max-gap", type=int, default=4, help="synthetic pairs: packed frames apart, at most")
+    p.add_argument("--sets", default="synth,homography,scannet", help="which benchmarks to run")
+    p.add_argument("--filter-threshold", type=float, default=0.1, help="LightGlue's minimum match score")
     p.add_argument("--keypoints", type=int, default=512)
     p.add_argument("--height", type=int, default=240)
     p.add_argument("--width", type=int, default=320)
@@ -204,13 +208,17 @@ def main():
     torch.set_num_threads(args.threads)
     device = torch.device(args.device)
     extractor = features.load_extractor(args.superpoint, device)
-    matchers = Matchers(load_lightglue(args.lightglue, device, adaptive=not args.no_adaptive), device)
-    report = {}
-    if args.synth_dir:
-        report["synth"] = run_synth(SynthPairs(args.synth_dir, 4), extractor, matchers, args, device)
-    report["homography_normal"] = run_homography(extractor, matchers, args, device, NORMAL)
-    report["homography_low"] = run_homography(extractor, matchers, args, device, LOW)
-    if (data_sources.shared_dir() / "data" / "scannet_pairs").is_dir():
+    lightglue = load_lightglue(args.lightglue, device, adaptive=not args.no_adaptive)
+    lightglue.conf["filter_threshold"] = args.filter_threshold
+    matchers = Matchers(lightglue, device)
+    report = {"settings": {k: v for k, v in vars(args).items() if k not in ("synth_dir",)}}
+    sets = args.sets.split(",")
+    if args.synth_dir and "synth" in sets:
+        report["synth"] = run_synth(SynthPairs(args.synth_dir, args.max_gap), extractor, matchers, args, device)
+    if "homography" in sets:
+        report["homography_normal"] = run_homography(extractor, matchers, args, device, NORMAL)
+        report["homography_low"] = run_homography(extractor, matchers, args, device, LOW)
+    if "scannet" in sets and (data_sources.shared_dir() / "data" / "scannet_pairs").is_dir():
         report["scannet"] = run_scannet(extractor, matchers, args, device)
     st = matchers.stats
     report["lightglue_adaptivity"] = {"mean_stop_layer": round(float(np.mean(st["stop"])), 2),

@@ -120,7 +120,7 @@ def run(stage_name, stage_id, model, steps, lr, make_batch, compute_losses, out_
         losses["total"].backward()
         optimizer.step()
         step += 1
-        window.append({k: float(v) for k, v in losses.items()})
+        window.append({k: float(v.detach()) if torch.is_tensor(v) else float(v) for k, v in losses.items()})
         if step % log_every == 0 or step == steps:
             row = {"step": step, "time_s": round(elapsed + time.time() - started, 1)}
             row.update({k: round(float(np.mean([w[k] for w in window])), 5) for k in window[0]})
