@@ -25,18 +25,13 @@ REPO = TRAINING.parent
 sys.path.insert(0, str(TRAINING))
 
 from lightglue.export import export_state  # noqa: E402
+from pllvo_nets.checks import Checks  # noqa: E402
 from pllvo_nets.lightglue import LightGlue, lightglue_conf_from_state_dict  # noqa: E402
 from pllvo_nets.safetensors_io import load_safetensors, save_safetensors  # noqa: E402
 from pllvo_nets.superpoint import SuperPoint  # noqa: E402
 from superpoint import synthetic_shapes  # noqa: E402
 
-FAILURES = []
-
-
-def check(condition, message):
-    print(("ok   " if condition else "FAIL ") + message)
-    if not condition:
-        FAILURES.append(message)
+check = Checks()
 
 
 def images():
@@ -141,8 +136,7 @@ def main():
         rng = np.random.default_rng(0)
         f0, f1 = random_features(tmp, rng, 300, 64, "r0.safetensors"), random_features(tmp, rng, 280, 64, "r1.safetensors")
         compare_lightglue(cli, tmp / "random_lg.safetensors", f0, f1, tmp, "random export", filter_threshold=0.0)
-    print("fidelity: " + ("all checks passed" if not FAILURES else f"{len(FAILURES)} failed"))
-    return 1 if FAILURES else 0
+    return check.summary("fidelity")
 
 
 if __name__ == "__main__":

@@ -19,19 +19,14 @@ from lightglue.export import export_state
 from lightglue.features import load_extractor
 from lightglue.pairs import depth_warp, homography_warp
 from lightglue.train import Step, build_model
+from pllvo_nets.checks import Checks
 from pllvo_nets.lightglue import LightGlue, lightglue_conf_from_state_dict
 from pllvo_nets.safetensors_io import load_safetensors
 from superpoint import synthetic_shapes
 from superpoint.homographies import HomographyParams, sample_homography, warp_image, warp_points
 
 REPO = Path(__file__).resolve().parents[2]
-FAILURES = []
-
-
-def check(condition, message):
-    print(("ok   " if condition else "FAIL ") + message)
-    if not condition:
-        FAILURES.append(message)
+check = Checks()
 
 
 def test_ground_truth():
@@ -127,8 +122,7 @@ def main():
     test_ground_truth()
     test_depth_warp()
     test_export(test_training_steps())
-    print("lightglue smoke test: " + ("all checks passed" if not FAILURES else f"{len(FAILURES)} failed"))
-    return 1 if FAILURES else 0
+    return check.summary("lightglue smoke test")
 
 
 if __name__ == "__main__":
