@@ -190,9 +190,7 @@ __attribute__((target("avx2"))) void shade_span_avx2(const Rasterizer::QuadShadi
 }  // namespace
 
 Rasterizer::Rasterizer(IdealView view, double near_m, bool simd) : view_(std::move(view)), near_(near_m) {
-  if (view_.width <= 0 || view_.height <= 0 || static_cast<int>(view_.row_begin.size()) != view_.height ||
-      static_cast<int>(view_.row_end.size()) != view_.height ||
-      static_cast<int>(view_.hole_begin.size()) != view_.height || static_cast<int>(view_.hole_end.size()) != view_.height)
+  if (view_.width <= 0 || view_.height <= 0 || static_cast<int>(view_.drawn.first.size()) != view_.height + 1)
     throw InternalError("Rasterizer: malformed ideal view");
   // Zero outside the drawn region once; render() clears only the drawn region.
   radiance_ = cv::Mat::zeros(view_.height, view_.width, CV_32F);
@@ -205,16 +203,44 @@ Rasterizer::Rasterizer(IdealView view, double near_m, bool simd) : view_(std::mo
 #endif
 }
 
-void Rasterizer::render(const Scene& scene, const RadianceState& radiance, const Eigen::Isometry3d& T_cam_world,
-                        float gain, bool with_ids) {
-  with_ids_ = with_ids;
-  // Clear only what is drawn: most of the cost here is memory traffic.
-  for (int y = 0; y < view_.height; ++y) {
-    const int c0 = view_.row_begin[y], n = view_.row_end[y] - c0;
-    if (n <= 0) continue;
-    std::fill_n(radiance_.ptr<float>(y) + c0, n, 0.0f);
-    std::fill_n(inv_depth_.ptr<float>(y) + c0, n, 0.0f);
+RowRuns RowRuns::from_mask(const cv::Mat& mask) {
+  RowRuns r;
+  r.first.reserve(mask.rows + 1);
+  for (int y = 0; y < mask.rows; ++y) {
+    r.first.push_back(static_cast<int>(r.begin.size()));
+    const auto* m = mask.ptr<uint8_t>(y);
+    for (int x = 0; x < mask.cols;) {
+      if (!m[x]) {
+        ++x;
+        continue;
+      }
+      const int x0 = x;
+      while (x < mask.cols && m[x]) ++x;
+      r.begin.push_back(x0);
+      r.end.push_back(x);
+    }
   }
+  r.first.push_back(static_cast<int>(r.begin.size()));
+  return r;
+}
+
+size_t RowRuns::pixels() const {
+  size_t n = 0;
+  for (size_t k = 0; k < begin.size(); ++k) n += end[k] - begin[k];
+  return n;
+}
+
+void Rasterizer::render(const Scene& scene, const RadianceState& radiance, const Eigen::Isometry3d& T_cam_world,
+                        float gain, bool with_ids, const RowRuns* pixels) {
+  with_ids_ = with_ids;
+  const RowRuns& runs = pixels ? *pixels : view_.drawn;
+  if (static_cast<int>(runs.first.size()) != view_.height + 1) throw InternalError("Rasterizer: runs of another view");
+  // Clear only what is drawn: most of the cost here is memory traffic.
+  for (int y = 0; y < view_.height; ++y)
+    for (int k = runs.first[y]; k < runs.first[y + 1]; ++k) {
+      std::fill_n(radiance_.ptr<float>(y) + runs.begin[k], runs.end[k] - runs.begin[k], 0.0f);
+      std::fill_n(inv_depth_.ptr<float>(y) + runs.begin[k], runs.end[k] - runs.begin[k], 0.0f);
+    }
   if (with_ids) ids_.setTo(-1);
   // Front to back, so that hidden pixels fail the depth test before their texture lookup.
   const Eigen::Vector3d eye = T_cam_world.inverse().translation();
@@ -222,11 +248,11 @@ void Rasterizer::render(const Scene& scene, const RadianceState& radiance, const
   for (size_t i = 0; i < scene.quads.size(); ++i)
     if (scene.quads[i].faces(eye)) order_.emplace_back(distance_to_quad(scene.quads[i], eye), static_cast<int>(i));
   std::sort(order_.begin(), order_.end());
-  for (const auto& [dist, i] : order_) draw_quad(scene.quads[i], i, radiance.quads[i], T_cam_world, gain);
+  for (const auto& [dist, i] : order_) draw_quad(scene.quads[i], i, radiance.quads[i], T_cam_world, gain, runs);
 }
 
 void Rasterizer::draw_quad(const Quad& quad, int index, const MipTexture& tex, const Eigen::Isometry3d& T_cam_world,
-                           float gain) {
+                           float gain, const RowRuns& pixels) {
   Eigen::Vector3d P[4];
   for (int k = 0; k < 4; ++k) P[k] = T_cam_world * quad.corner(k);
 
@@ -299,16 +325,12 @@ void Rasterizer::draw_quad(const Quad& quad, int index, const MipTexture& tex, c
       }
     }
     if (xl > xr) continue;
-    const int x_begin = std::max(view_.row_begin[y], static_cast<int>(std::ceil(std::max(xl, -1.0))));
-    const int x_end = std::min(view_.row_end[y], static_cast<int>(std::ceil(std::min(xr, 1e9))));
-    // The needed columns minus the row's hole: up to two pieces.
-    const int pieces[2][2] = {{x_begin, std::min(x_end, view_.hole_begin[y])},
-                              {std::max(x_begin, view_.hole_end[y]), x_end}};
-    const bool has_hole = view_.hole_end[y] > view_.hole_begin[y];
-    for (int k = 0; k < (has_hole ? 2 : 1); ++k) {
+    const int x_begin = static_cast<int>(std::ceil(std::max(xl, -1.0)));
+    const int x_end = static_cast<int>(std::ceil(std::min(xr, 1e9)));
+    for (int k = pixels.first[y]; k < pixels.first[y + 1]; ++k) {
       Span sp;
-      sp.c0 = has_hole ? pieces[k][0] : x_begin;
-      sp.c1 = has_hole ? pieces[k][1] : x_end;
+      sp.c0 = std::max(x_begin, pixels.begin[k]);
+      sp.c1 = std::min(x_end, pixels.end[k]);
       if (sp.c0 >= sp.c1) continue;
       sp.s0 = static_cast<float>(A(0, 0) * sp.c0 + A(0, 1) * y + A(0, 2));
       sp.t0 = static_cast<float>(A(1, 0) * sp.c0 + A(1, 1) * y + A(1, 2));
