@@ -33,7 +33,7 @@ namespace {
 
 constexpr int kGroup = 8;
 constexpr int kChunk = 512;  // pixels whose paths are computed before their samples
-constexpr size_t kPrefetchAhead = kChunk;  // pixels: the next chunk
+constexpr size_t kPrefetchAhead = 64;  // pixels
 // Scaled depth (z / z_render) below which a point is treated as passing the camera: its
 // pixel is left unblurred (a point that close to the camera plane only occurs at the near plane).
 constexpr float kMinScaledZ = 1e-4f;
@@ -140,12 +140,17 @@ __attribute__((target("avx2"))) inline __m256 sample8(const FlowBlur::Pass& p, _
   const __m256i xi = _mm256_cvttps_epi32(sx), yi = _mm256_cvttps_epi32(sy);
   const __m256 fx = _mm256_sub_ps(sx, _mm256_cvtepi32_ps(xi)), fy = _mm256_sub_ps(sy, _mm256_cvtepi32_ps(yi));
   const __m256i idx = _mm256_add_epi32(_mm256_mullo_epi32(yi, _mm256_set1_epi32(p.stride)), xi);
-  const __m256i one = _mm256_set1_epi32(1), down = _mm256_set1_epi32(p.stride);
-  const __m256 p00 = _mm256_i32gather_ps(p.radiance, idx, 4);
-  const __m256 p01 = _mm256_i32gather_ps(p.radiance, _mm256_add_epi32(idx, one), 4);
-  const __m256i idx1 = _mm256_add_epi32(idx, down);
-  const __m256 p10 = _mm256_i32gather_ps(p.radiance, idx1, 4);
-  const __m256 p11 = _mm256_i32gather_ps(p.radiance, _mm256_add_epi32(idx1, one), 4);
+  // Plain loads of each lane's 2 x 2 taps: faster than gathers here, whose cache misses
+  // stall the whole instruction.
+  alignas(32) int32_t at[8];
+  alignas(32) float t00[8], t01[8], t10[8], t11[8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(at), idx);
+  for (int k = 0; k < 8; ++k) {
+    const float* q = p.radiance + at[k];
+    t00[k] = q[0], t01[k] = q[1], t10[k] = q[p.stride], t11[k] = q[p.stride + 1];
+  }
+  const __m256 p00 = _mm256_load_ps(t00), p01 = _mm256_load_ps(t01);
+  const __m256 p10 = _mm256_load_ps(t10), p11 = _mm256_load_ps(t11);
   const __m256 a = _mm256_add_ps(p00, _mm256_mul_ps(fx, _mm256_sub_ps(p01, p00)));
   const __m256 b = _mm256_add_ps(p10, _mm256_mul_ps(fx, _mm256_sub_ps(p11, p10)));
   return _mm256_add_ps(a, _mm256_mul_ps(fy, _mm256_sub_ps(b, a)));
@@ -159,7 +164,12 @@ __attribute__((target("avx2"))) int paths_avx2(const FlowBlur::Pass& p, const fl
   const __m256 ry = _mm256_mul_ps(_mm256_sub_ps(y, _mm256_set1_ps(p.cy)), _mm256_set1_ps(p.ify));
   const __m256i didx = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_cvtps_epi32(y), _mm256_set1_epi32(p.stride)),
                                         _mm256_cvtps_epi32(x));
-  const __m256 w = _mm256_i32gather_ps(p.inv_depth, didx, 4);
+  // Eight plain loads: faster than a gather here, whose misses stall the whole instruction.
+  alignas(32) int32_t at[kGroup];
+  alignas(32) float wv[kGroup];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(at), didx);
+  for (int k = 0; k < kGroup; ++k) wv[k] = p.inv_depth[at[k]];
+  const __m256 w = _mm256_load_ps(wv);
   const Vec3x8 A = transform8(p.r0, p.t0, rx, ry, w), B = transform8(p.r1, p.t1, rx, ry, w);
   const __m256 min_z = _mm256_set1_ps(kMinScaledZ), one = _mm256_set1_ps(1.0f);
   const __m256 valid = _mm256_and_ps(_mm256_cmp_ps(A.z, min_z, _CMP_GT_OQ), _mm256_cmp_ps(B.z, min_z, _CMP_GT_OQ));

@@ -96,7 +96,6 @@ inline float lerp4(float p00, float p01, float p10, float p11, float fx, float f
 #if defined(__x86_64__) && defined(__GNUC__)
 __attribute__((target("avx2"))) void distort_avx2(const float* src, int stride, const int32_t* index,
                                                    const float* fx, const float* fy, float* dst, size_t n) {
-  const __m256i down = _mm256_set1_epi32(stride), one = _mm256_set1_epi32(1);
   size_t i = 0;
   for (; i + 8 <= n; i += 8) {
     // The taps follow the lens's curves through the ideal image, which the hardware
@@ -105,12 +104,14 @@ __attribute__((target("avx2"))) void distort_avx2(const float* src, int stride, 
       __builtin_prefetch(src + index[i + kPrefetchAhead]);
       __builtin_prefetch(src + index[i + kPrefetchAhead] + stride);
     }
-    const __m256i idx = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index + i));
-    const __m256 p00 = _mm256_i32gather_ps(src, idx, 4);
-    const __m256 p01 = _mm256_i32gather_ps(src, _mm256_add_epi32(idx, one), 4);
-    const __m256i idx1 = _mm256_add_epi32(idx, down);
-    const __m256 p10 = _mm256_i32gather_ps(src, idx1, 4);
-    const __m256 p11 = _mm256_i32gather_ps(src, _mm256_add_epi32(idx1, one), 4);
+    // Plain loads: a gather stalls as a whole on any cache miss.
+    alignas(32) float t00[8], t01[8], t10[8], t11[8];
+    for (int k = 0; k < 8; ++k) {
+      const float* q = src + index[i + k];
+      t00[k] = q[0], t01[k] = q[1], t10[k] = q[stride], t11[k] = q[stride + 1];
+    }
+    const __m256 p00 = _mm256_load_ps(t00), p01 = _mm256_load_ps(t01);
+    const __m256 p10 = _mm256_load_ps(t10), p11 = _mm256_load_ps(t11);
     const __m256 x = _mm256_loadu_ps(fx + i), y = _mm256_loadu_ps(fy + i);
     const __m256 a = _mm256_add_ps(p00, _mm256_mul_ps(x, _mm256_sub_ps(p01, p00)));
     const __m256 b = _mm256_add_ps(p10, _mm256_mul_ps(x, _mm256_sub_ps(p11, p10)));

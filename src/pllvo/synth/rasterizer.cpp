@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <climits>
+#include <cstdint>
 #include <cstring>
 
 #include <Eigen/LU>
@@ -75,6 +77,7 @@ struct Span {
   float* zb;
   int32_t* id;
   int c0, c1;
+  int row_end;       // columns of the row buffers (whole-vector stores stay below it)
   float w0, s0, t0;  // w, S*w and T*w at column c0
 };
 
@@ -105,10 +108,17 @@ __attribute__((target("avx2"))) inline __m256 bilinear8(const Rasterizer::QuadSh
   const __m256i step = _mm256_set1_epi32(q.step[l]);
   const __m256i idx =
       _mm256_add_epi32(_mm256_add_epi32(_mm256_set1_epi32(q.offset[l]), _mm256_mullo_epi32(yi, step)), xi);
-  // One 32-bit gather fetches two horizontally adjacent 16-bit texels.
-  const auto* base = reinterpret_cast<const int*>(q.data);
-  const __m256i g0 = _mm256_i32gather_epi32(base, idx, 2);
-  const __m256i g1 = _mm256_i32gather_epi32(base, _mm256_add_epi32(idx, step), 2);
+  // One 32-bit load fetches two horizontally adjacent 16-bit texels; plain loads, because a
+  // gather stalls as a whole on any cache miss.
+  alignas(32) int32_t at[8];
+  alignas(32) uint32_t top[8], bottom[8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(at), idx);
+  for (int k = 0; k < 8; ++k) {
+    std::memcpy(&top[k], q.data + at[k], sizeof(uint32_t));
+    std::memcpy(&bottom[k], q.data + at[k] + q.step[l], sizeof(uint32_t));
+  }
+  const __m256i g0 = _mm256_load_si256(reinterpret_cast<const __m256i*>(top));
+  const __m256i g1 = _mm256_load_si256(reinterpret_cast<const __m256i*>(bottom));
   const __m256i lo = _mm256_set1_epi32(0xffff);
   const __m256 p00 = _mm256_cvtepi32_ps(_mm256_and_si256(g0, lo)), p01 = _mm256_cvtepi32_ps(_mm256_srli_epi32(g0, 16));
   const __m256 p10 = _mm256_cvtepi32_ps(_mm256_and_si256(g1, lo)), p11 = _mm256_cvtepi32_ps(_mm256_srli_epi32(g1, 16));
@@ -124,6 +134,18 @@ __attribute__((target("avx2"))) inline __m256 fast_log2_8(__m256 v) {
   const __m256 m = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_and_si256(bits, _mm256_set1_epi32(0x7fffff))),
                                  _mm256_set1_ps(1.0f / 8388608.0f));
   return _mm256_add_ps(e, _mm256_mul_ps(m, _mm256_sub_ps(_mm256_set1_ps(1.3465f), _mm256_mul_ps(_mm256_set1_ps(0.3465f), m))));
+}
+
+__attribute__((target("avx2"))) inline __m256i hmin8(__m256i v) {
+  v = _mm256_min_epi32(v, _mm256_permute2x128_si256(v, v, 1));
+  v = _mm256_min_epi32(v, _mm256_shuffle_epi32(v, 0x4e));
+  return _mm256_min_epi32(v, _mm256_shuffle_epi32(v, 0xb1));
+}
+
+__attribute__((target("avx2"))) inline __m256i hmax8(__m256i v) {
+  v = _mm256_max_epi32(v, _mm256_permute2x128_si256(v, v, 1));
+  v = _mm256_max_epi32(v, _mm256_shuffle_epi32(v, 0x4e));
+  return _mm256_max_epi32(v, _mm256_shuffle_epi32(v, 0xb1));
 }
 
 __attribute__((target("avx2"))) void shade_span_avx2(const Rasterizer::QuadShading& q, const Span& sp, float gain) {
@@ -152,19 +174,14 @@ __attribute__((target("avx2"))) void shade_span_avx2(const Rasterizer::QuadShadi
     const __m256 lod = _mm256_blendv_ps(lod_raw, _mm256_setzero_ps(), _mm256_cmp_ps(rho2, one, _CMP_LE_OQ));
     const __m256i li = _mm256_cvttps_epi32(lod);
     const __m256 f = _mm256_sub_ps(lod, _mm256_cvtepi32_ps(li));
-    alignas(32) int levels[8];
-    alignas(32) int passed[8];
-    _mm256_store_si256(reinterpret_cast<__m256i*>(levels), li);
-    _mm256_store_si256(reinterpret_cast<__m256i*>(passed), pass);
-    int l = -1;
-    bool uniform = true;
-    for (int k = 0; k < n; ++k)
-      if (passed[k]) {
-        if (l < 0) l = levels[k];
-        uniform = uniform && levels[k] == l;
-      }
-    if (!uniform) {  // the mip level changes inside these 8 pixels: one at a time
+    // One mip level for the passing lanes (the usual case) takes the vector path.
+    const __m256i lmin = hmin8(_mm256_blendv_epi8(_mm256_set1_epi32(INT32_MAX), li, pass));
+    const __m256i lmax = hmax8(_mm256_blendv_epi8(_mm256_set1_epi32(INT32_MIN), li, pass));
+    const int l = _mm256_cvtsi256_si32(lmin);
+    if (l != _mm256_cvtsi256_si32(lmax)) {  // the mip level changes inside these 8 pixels: one at a time
+      alignas(32) int passed[8];
       alignas(32) float Sv[8], Tv[8], iwv[8], wv[8];
+      _mm256_store_si256(reinterpret_cast<__m256i*>(passed), pass);
       _mm256_store_ps(Sv, S);
       _mm256_store_ps(Tv, T);
       _mm256_store_ps(iwv, iw);
@@ -180,9 +197,20 @@ __attribute__((target("avx2"))) void shade_span_avx2(const Rasterizer::QuadShadi
     __m256 v = bilinear8(q, l, S, T);
     const int l1 = std::min(l + 1, q.num_levels - 1);
     if (_mm256_movemask_ps(_mm256_cmp_ps(f, _mm256_setzero_ps(), _CMP_NEQ_OQ)) != 0) v = _mm256_add_ps(v, _mm256_mul_ps(f, _mm256_sub_ps(bilinear8(q, l1, S, T), v)));
-    _mm256_maskstore_ps(sp.rad + c, pass, _mm256_mul_ps(v, _mm256_set1_ps(scale)));
-    _mm256_maskstore_ps(sp.zb + c, pass, w);
-    if (sp.id) _mm256_maskstore_epi32(sp.id + c, pass, _mm256_set1_epi32(q.index));
+    v = _mm256_mul_ps(v, _mm256_set1_ps(scale));
+    if (c + 8 <= sp.row_end) {  // masked stores are slow on some CPUs: blend with what is there
+      const __m256 m = _mm256_castsi256_ps(pass);
+      _mm256_storeu_ps(sp.rad + c, _mm256_blendv_ps(_mm256_loadu_ps(sp.rad + c), v, m));
+      _mm256_storeu_ps(sp.zb + c, _mm256_blendv_ps(_mm256_loadu_ps(sp.zb + c), w, m));
+      if (sp.id)
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(sp.id + c),
+                            _mm256_blendv_epi8(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(sp.id + c)),
+                                               _mm256_set1_epi32(q.index), pass));
+    } else {
+      _mm256_maskstore_ps(sp.rad + c, pass, v);
+      _mm256_maskstore_ps(sp.zb + c, pass, w);
+      if (sp.id) _mm256_maskstore_epi32(sp.id + c, pass, _mm256_set1_epi32(q.index));
+    }
   }
 }
 #endif
@@ -335,6 +363,7 @@ void Rasterizer::draw_quad(const Quad& quad, int index, const MipTexture& tex, c
       sp.s0 = static_cast<float>(A(0, 0) * sp.c0 + A(0, 1) * y + A(0, 2));
       sp.t0 = static_cast<float>(A(1, 0) * sp.c0 + A(1, 1) * y + A(1, 2));
       sp.w0 = static_cast<float>(A(2, 0) * sp.c0 + A(2, 1) * y + A(2, 2));
+      sp.row_end = view_.width;
       sp.rad = radiance_.ptr<float>(y);
       sp.zb = inv_depth_.ptr<float>(y);
       sp.id = with_ids_ ? ids_.ptr<int32_t>(y) : nullptr;
