@@ -35,9 +35,11 @@ Generator& generator(const std::string& key) {
     if (key.find("+stereo") != std::string::npos) spec.camera.stereo = true;
     if (key.find("+noblur") != std::string::npos) spec.sensor.motion_blur = false;
     if (key.find("+renders") != std::string::npos) spec.sensor.blur_method = "renders";
-    // "+rpxN": blur_render_px = N, "+spxN": blur_sample_px = N (tuning the flow blur).
+    // "+rpxN": blur_render_px = N, "+spxN": blur_sample_px = N, "+msNN": blur_max_samples = N
+    // (tuning the flow blur).
     if (auto k = key.find("+rpx"); k != std::string::npos) spec.sensor.blur_render_px = std::stod(key.substr(k + 4));
     if (auto k = key.find("+spx"); k != std::string::npos) spec.sensor.blur_sample_px = std::stod(key.substr(k + 4));
+    if (auto k = key.find("+msN"); k != std::string::npos) spec.sensor.blur_max_samples = std::stoi(key.substr(k + 4));
     g = std::make_unique<Generator>(spec);
   }
   return *g;

@@ -62,7 +62,7 @@ TEST(SynthMotionBlur, SmearsAlongTheMotionOnly) {
     // Panning at 1 rad/s: ~4.6 px of horizontal motion in 10 ms.
     const RenderedFrame moving = render_pan(spec, 1.0), still = render_pan(spec, 0.0);
     EXPECT_EQ(still.subframes, 1);
-    if (method == "flow") EXPECT_EQ(moving.subframes, 1);  // one render covers up to 32 px
+    if (method == "flow") EXPECT_EQ(moving.subframes, 1);  // one render covers up to 64 px
     else EXPECT_GE(moving.subframes, 5);
     const double gx = edge_length(moving.cameras[0].clean, 1, 0) / edge_length(still.cameras[0].clean, 1, 0);
     const double gy = edge_length(moving.cameras[0].clean, 0, 1) / edge_length(still.cameras[0].clean, 0, 1);

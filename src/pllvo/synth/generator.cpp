@@ -57,9 +57,7 @@ void Generator::init() {
   exposure_ = std::make_unique<ExposureSchedule>(spec_, off_ratio);
   main_ = std::make_unique<Rasterizer>(lens_->ideal_view(), spec_.sensor.near_m);
   scratch_ = std::make_unique<Rasterizer>(lens_->ideal_view(), spec_.sensor.near_m);
-  // Paths never need more samples than one render's share of the motion allows.
-  const int max_samples = static_cast<int>(std::ceil(2 * LensModel::kMaxBlurMargin / spec_.sensor.blur_sample_px)) + 1;
-  flow_blur_ = std::make_unique<FlowBlur>(*lens_, spec_.sensor.blur_sample_px, max_samples);
+  flow_blur_ = std::make_unique<FlowBlur>(*lens_, spec_.sensor.blur_sample_px, spec_.sensor.blur_max_samples);
 }
 
 int64_t Generator::stamp_ns(size_t i) const { return stamp_ns(time(i)); }

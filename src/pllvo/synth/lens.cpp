@@ -52,7 +52,7 @@ LensModel::LensModel(const camera::CameraModel& camera) {
         for (int c = std::max(0, x0); c <= std::min(view_.width - 1, x0 + 3); ++c) needed.at<uint8_t>(r, c) = 1;
     }
   view_.drawn = RowRuns::from_mask(needed);
-  for (int margin : {2, 4, 6, 8, 12, 16, 24, kMaxBlurMargin}) {
+  for (int margin : {2, 4, 6, 8, 12, 16, 24, 32, 40, kMaxBlurMargin}) {
     cv::Mat dilated, ring;
     cv::dilate(needed, dilated, cv::Mat::ones(2 * margin + 1, 2 * margin + 1, CV_8U));
     cv::subtract(dilated, needed, ring);

@@ -23,7 +23,7 @@ struct BlurRegion {
 class LensModel {
  public:
   /// Widest margin around the drawn pixels (the ideal view has room for it).
-  static constexpr int kMaxBlurMargin = 32;
+  static constexpr int kMaxBlurMargin = 48;
 
   /// Unprojects every camera pixel once (Newton per pixel); InternalError when the model
   /// cannot be inverted somewhere in the image.

@@ -95,6 +95,7 @@ void read_sensor(const ConfigNode& n, SensorSpec& s) {
   n.get("blur_step_px", s.blur_step_px);
   n.get("blur_render_px", s.blur_render_px);
   n.get("blur_sample_px", s.blur_sample_px);
+  n.get("blur_max_samples", s.blur_max_samples);
   n.get("max_subframes", s.max_subframes);
   n.get("near_m", s.near_m);
   n.reject_unknown_keys();
@@ -199,6 +200,7 @@ void validate(const SequenceSpec& s, const std::filesystem::path& file) {
         "unknown blur method '" + n.blur_method + "' (flow, renders)");
   check(n.blur_render_px > 0 && n.blur_sample_px >= 0.25 && n.blur_sample_px <= 8, "sensor.blur_render_px",
         "needs blur_render_px > 0 and blur_sample_px in [0.25, 8]");
+  check(n.blur_max_samples >= 1 && n.blur_max_samples <= 256, "sensor.blur_max_samples", "must be in [1, 256]");
   check(n.near_m > 0 && n.near_m < 1, "sensor.near_m", "must be in (0, 1) metres");
   const auto& sc = s.scene;
   check(sc.layout == "room" || sc.layout == "corridor", "scene.layout",
@@ -319,6 +321,7 @@ std::string to_yaml(const SequenceSpec& s) {
   kv("blur_step_px", s.sensor.blur_step_px);
   kv("blur_render_px", s.sensor.blur_render_px);
   kv("blur_sample_px", s.sensor.blur_sample_px);
+  kv("blur_max_samples", s.sensor.blur_max_samples);
   kv("max_subframes", s.sensor.max_subframes);
   kv("near_m", s.sensor.near_m);
   out << YAML::EndMap;

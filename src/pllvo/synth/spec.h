@@ -74,8 +74,9 @@ struct SensorSpec {
   /// "renders": one full render per sub-exposure (the reference; 3-8x slower in low light).
   std::string blur_method = "flow";
   double blur_step_px = 2.0;      ///< renders: at most this image motion between sub-exposures
-  double blur_render_px = 32.0;   ///< flow: at most this image motion covered by one render
-  double blur_sample_px = 1.0;    ///< flow: spacing of the samples along each pixel's path
+  double blur_render_px = 64.0;   ///< flow: at most this image motion covered by one render
+  double blur_sample_px = 1.0;    ///< flow: spacing of the samples along each pixel's path...
+  int blur_max_samples = 32;      ///< flow: ...up to this many (longer paths: sparser samples)
   int max_subframes = 15;         ///< renders per frame at most
   double near_m = 0.05;           ///< near clipping plane
 };
