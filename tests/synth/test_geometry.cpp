@@ -200,36 +200,6 @@ TEST(SynthGeometry, SimdAndScalarRasterizersAgreeExactly) {
     EXPECT_EQ(cv::norm(fast.radiance(), plain.radiance(), cv::NORM_INF), 0.0);
     EXPECT_EQ(cv::norm(fast.inverse_depth(), plain.inverse_depth(), cv::NORM_INF), 0.0);
     EXPECT_EQ(cv::countNonZero(fast.quad_ids() != plain.quad_ids()), 0);
-    EXPECT_GT(cv::countNonZero(plain.quad_ids() >= 0), 0.95 * plain.quad_ids().total() * 0.8);
+    EXPECT_GT(cv::countNonZero(plain.quad_ids() >= 0), 0.95 * gen.lens().ideal_view().drawn.pixels());
   }
-}
-
-TEST(SynthGeometry, MotionBlurSmearsAlongTheMotionOnly) {
-  const Scene scene = checker_scene(kSquare);
-  const Eigen::Isometry3d pose = camera_facing_wall();
-  SequenceSpec spec = quiet_spec();
-  spec.sensor.motion_blur = true;
-  spec.sensor.exposure_ms = 10;
-  spec.sensor.max_exposure_ms = 10;
-  spec.sensor.sensitivity = 1200;  // no saturation: clipping would hide the smear
-  spec.sensor.blur_step_px = 1.0;
-  // Panning about the camera's y axis at 1 rad/s: ~4.6 px of horizontal motion in 10 ms.
-  Generator moving(spec, scene, std::make_shared<ConstantVelocityPath>(pose, Eigen::Vector3d::Zero(),
-                                                                         Eigen::Vector3d(0, 1.0, 0)));
-  Generator still(spec, scene, std::make_shared<StaticPath>(pose));
-  RenderOptions opt;
-  opt.noise = false;
-  const RenderedFrame fm = moving.render(0, opt), fs = still.render(0, opt);
-  EXPECT_GE(fm.subframes, 3);
-  EXPECT_EQ(fs.subframes, 1);
-  // Blur keeps the total variation of an edge but spreads it: the squared gradient drops.
-  auto gradient_energy = [](const cv::Mat& img, int dx, int dy) {
-    cv::Mat g;
-    cv::Sobel(img, g, CV_32F, dx, dy);
-    return cv::mean(g.mul(g))[0];
-  };
-  const double gx_ratio = gradient_energy(fm.cameras[0].image, 1, 0) / gradient_energy(fs.cameras[0].image, 1, 0);
-  const double gy_ratio = gradient_energy(fm.cameras[0].image, 0, 1) / gradient_energy(fs.cameras[0].image, 0, 1);
-  EXPECT_LT(gx_ratio, 0.7);
-  EXPECT_GT(gy_ratio, 0.85);
 }

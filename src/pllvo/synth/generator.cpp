@@ -1,6 +1,8 @@
 #include "pllvo/synth/generator.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "pllvo/common/error.h"
 #include "pllvo/synth/layout.h"
@@ -55,6 +57,7 @@ void Generator::init() {
   exposure_ = std::make_unique<ExposureSchedule>(spec_, off_ratio);
   main_ = std::make_unique<Rasterizer>(lens_->ideal_view(), spec_.sensor.near_m);
   scratch_ = std::make_unique<Rasterizer>(lens_->ideal_view(), spec_.sensor.near_m);
+  flow_blur_ = std::make_unique<FlowBlur>(*lens_, spec_.sensor.blur_sample_px, spec_.sensor.blur_max_samples);
 }
 
 int64_t Generator::stamp_ns(size_t i) const { return stamp_ns(time(i)); }
@@ -87,9 +90,7 @@ RenderedFrame Generator::render(size_t i, const RenderOptions& options) {
   return f;
 }
 
-int Generator::count_subframes(size_t c, double t, double exposure_s) const {
-  const int max_n = spec_.sensor.max_subframes;
-  if (!spec_.sensor.motion_blur || exposure_s <= 0 || max_n <= 1) return 1;
+double Generator::image_motion(size_t c, double t, double exposure_s) const {
   // Image motion over the exposure of a grid of visible points, using the depth just rendered.
   const IdealView& view = lens_->ideal_view();
   const Eigen::Isometry3d T_wc = T_world_cam(c, t);
@@ -107,28 +108,21 @@ int Generator::count_subframes(size_t c, double t, double exposure_s) const {
       const Eigen::Vector3d X_c((p[0] - view.cx) / view.fx / w, (p[1] - view.cy) / view.fy / w, 1.0 / w);
       const Eigen::Vector3d X_w = T_wc * X_c;
       const Eigen::Vector3d A = T_aw * X_w, B = T_bw * X_w;
-      if (A.z() < 0.01 || B.z() < 0.01) return max_n % 2 ? max_n : max_n - 1;
+      if (A.z() < 0.01 || B.z() < 0.01) return std::numeric_limits<double>::infinity();
       motion = std::max(motion, (view.project(A) - view.project(B)).norm());
     }
-  int n = static_cast<int>(std::ceil(motion / spec_.sensor.blur_step_px));
-  if (n % 2 == 0) ++n;  // odd: the middle render is the one at the timestamp
-  const int cap = max_n % 2 ? max_n : max_n - 1;
-  return std::clamp(n, 1, cap);
+  return motion;
 }
 
-CameraFrame Generator::render_camera(size_t c, size_t frame, double t, const FrameExposure& exposure,
-                                     const RenderOptions& options, int& subframes) {
-  CameraFrame out;
-  out.T_world_cam = T_world_cam(c, t);
-  const Eigen::Isometry3d T_cw = out.T_world_cam.inverse();
-  const double e = exposure.exposure_ms * 1e-3;
-  const int state_mid = exposure_->state(t);
-  const bool truth = options.lines || options.depth;
-  main_->render(scene_, radiance_[state_mid], T_cw, 1.0f, truth);
+int Generator::num_renders(double motion, double step_px) const {
+  const int cap = spec_.sensor.max_subframes % 2 ? spec_.sensor.max_subframes : spec_.sensor.max_subframes - 1;
+  if (!(motion < cap * step_px)) return std::max(cap, 1);
+  int n = static_cast<int>(std::ceil(motion / step_px));
+  if (n % 2 == 0) ++n;  // odd: the middle render is the one at the timestamp
+  return std::clamp(n, 1, std::max(cap, 1));
+}
 
-  // Split the exposure into sub-exposures (motion blur) and at the moment the lights go off.
-  const int n = count_subframes(c, t, e);
-  subframes = std::max(subframes, n);
+double Generator::expose_by_renders(size_t c, double t, double e, int state_mid, int n) {
   std::vector<ExposurePart> parts;
   const double t_off = exposure_->light_off_time();
   for (int k = 0; k < n; ++k) {
@@ -143,33 +137,86 @@ CameraFrame Generator::render_camera(size_t c, size_t frame, double t, const Fra
       parts.push_back({tau, exposure_->state(tau), light});
     }
   }
-  const cv::Mat* radiance = &main_->radiance();
-  double light = parts[0].weight;
-  if (parts.size() > 1) {
-    accumulated_.create(main_->radiance().size(), CV_32F);
-    accumulated_.setTo(0);
-    bool main_used = false;
-    for (const auto& p : parts) {
-      const Rasterizer* r = main_.get();
-      if (main_used || p.time != t || p.state != state_mid) {
-        scratch_->render(scene_, radiance_[p.state], T_world_cam(c, p.time).inverse(), 1.0f, false);
-        r = scratch_.get();
-      } else {
-        main_used = true;
-      }
-      cv::scaleAdd(r->radiance(), p.weight, accumulated_, accumulated_);
-    }
-    radiance = &accumulated_;
-    light = 1.0;
+  if (parts.size() == 1) {
+    lens_->distort(main_->radiance(), distorted_);
+    return parts[0].weight;
   }
+  accumulated_.create(main_->radiance().size(), CV_32F);
+  accumulated_.setTo(0);
+  bool main_used = false;
+  for (const auto& p : parts) {
+    const Rasterizer* r = main_.get();
+    if (main_used || p.time != t || p.state != state_mid) {
+      scratch_->render(scene_, radiance_[p.state], T_world_cam(c, p.time).inverse(), 1.0f, false);
+      r = scratch_.get();
+    } else {
+      main_used = true;
+    }
+    cv::scaleAdd(r->radiance(), p.weight, accumulated_, accumulated_);
+  }
+  lens_->distort(accumulated_, distorted_);
+  return 1.0;
+}
 
-  lens_->distort(*radiance, distorted_);
+void Generator::expose_by_flow(size_t c, double t, double e, int state, int n, double motion) {
+  // Each render covers 1/n of the exposure; its paths reach half of that motion either way.
+  const BlurRegion& region = lens_->blur_region(0.625 * motion / n + 2);
+  const Eigen::Isometry3d T_world_mid = T_world_cam(c, t);
+  for (int k = 0; k < n; ++k) {
+    const double tau = t + e * ((k + 0.5) / n - 0.5);
+    const Rasterizer* r = main_.get();
+    Eigen::Isometry3d T_world_render = T_world_mid;
+    if (2 * k + 1 == n) {  // the middle one: extend the render at the timestamp by the margin
+      main_->render(scene_, radiance_[state], T_world_mid.inverse(), 1.0f, false, &region.ring);
+    } else {
+      T_world_render = T_world_cam(c, tau);
+      scratch_->render(scene_, radiance_[state], T_world_render.inverse(), 1.0f, false, &region.all);
+      r = scratch_.get();
+    }
+    const Eigen::Isometry3d T_start = T_world_cam(c, tau - e / (2 * n)).inverse() * T_world_render;
+    const Eigen::Isometry3d T_end = T_world_cam(c, tau + e / (2 * n)).inverse() * T_world_render;
+    const float weight = static_cast<float>(exposure_->light_level(tau, e / n) / n);
+    flow_blur_->accumulate(*r, T_start, T_end, weight, region, distorted_, k > 0);
+  }
+}
+
+CameraFrame Generator::render_camera(size_t c, size_t frame, double t, const FrameExposure& exposure,
+                                     const RenderOptions& options, int& subframes) {
+  CameraFrame out;
+  out.T_world_cam = T_world_cam(c, t);
+  const Eigen::Isometry3d T_cw = out.T_world_cam.inverse();
+  const double e = exposure.exposure_ms * 1e-3;
+  const int state_mid = exposure_->state(t);
+  const bool truth = options.lines || options.depth;
+  main_->render(scene_, radiance_[state_mid], T_cw, 1.0f, truth);
+
+  // Motion blur; the lights going off inside this exposure take sub-exposure renders.
+  const auto& s = spec_.sensor;
+  const double motion = s.motion_blur && e > 0 ? image_motion(c, t, e) : 0.0;
+  const double t_off = exposure_->light_off_time();
+  const bool switch_inside = t_off > t - e / 2 && t_off < t + e / 2;
+  double light = 1.0;
+  int n = 1;
+  if (s.blur_method == "renders" || switch_inside) {
+    n = s.motion_blur && e > 0 ? num_renders(motion, s.blur_step_px) : 1;
+    light = expose_by_renders(c, t, e, state_mid, n);
+  } else if (motion < 0.5 * s.blur_sample_px) {  // nothing to see
+    lens_->distort(main_->radiance(), distorted_);
+    light = exposure_->light_level(t, e);
+  } else {
+    n = num_renders(motion, s.blur_render_px);
+    expose_by_flow(c, t, e, state_mid, n, motion);
+  }
+  subframes = std::max(subframes, n);
+
   sensor_->blur(distorted_);
-  sensor_->electrons(distorted_, light, exposure.exposure_ms, electrons_);
-  out.image = sensor_->record(electrons_, exposure.gain, derive_seed(spec_.seed, kNoiseStream, frame, c),
-                              options.noise);
+  out.image = sensor_->record(distorted_, light, exposure.exposure_ms, exposure.gain,
+                              derive_seed(spec_.seed, kNoiseStream, frame, c), options.noise);
   cv::Mat clean;
-  if (options.clean || options.lines) clean = sensor_->expected_dn(electrons_, exposure.gain);
+  if (options.clean || options.lines) {
+    sensor_->electrons(distorted_, light, exposure.exposure_ms, electrons_);
+    clean = sensor_->expected_dn(electrons_, exposure.gain);
+  }
   if (options.lines) {
     SegmentOptions so;
     so.min_length_px = spec_.output.min_segment_px;

@@ -20,6 +20,7 @@
 #include "pllvo/camera/camera_model.h"
 #include "pllvo/synth/camera_path.h"
 #include "pllvo/synth/exposure.h"
+#include "pllvo/synth/flow_blur.h"
 #include "pllvo/synth/lens.h"
 #include "pllvo/synth/radiance.h"
 #include "pllvo/synth/rasterizer.h"
@@ -90,7 +91,14 @@ class Generator {
   void init();
   CameraFrame render_camera(size_t c, size_t frame, double t, const FrameExposure& exposure,
                             const RenderOptions& options, int& subframes);
-  int count_subframes(size_t c, double t, double exposure_s) const;
+  /// Largest image motion (px) over the exposure among a grid of pixels, from main_'s depth.
+  double image_motion(size_t c, double t, double exposure_s) const;
+  /// Odd number of renders so that each covers at most step_px of motion (max_subframes at most).
+  int num_renders(double motion, double step_px) const;
+  /// distorted_ = mean of n full renders over the exposure; returns the light factor still to apply.
+  double expose_by_renders(size_t c, double t, double exposure_s, int state, int n);
+  /// distorted_ = n renders, each blurred along the image motion of its part of the exposure.
+  void expose_by_flow(size_t c, double t, double exposure_s, int state, int n, double motion);
 
   SequenceSpec spec_;
   Scene scene_;
@@ -102,6 +110,7 @@ class Generator {
   std::unique_ptr<ExposureSchedule> exposure_;
   std::vector<RadianceState> radiance_;  ///< per lighting state
   std::unique_ptr<Rasterizer> main_, scratch_;
+  std::unique_ptr<FlowBlur> flow_blur_;
   cv::Mat accumulated_, distorted_, electrons_;
 };
 

@@ -32,11 +32,13 @@ LensModel::LensModel(const camera::CameraModel& camera) {
       xmin = std::min(xmin, x), xmax = std::max(xmax, x);
       ymin = std::min(ymin, y), ymax = std::max(ymax, y);
     }
-  // Integer offsets keep the ideal pixel grid aligned with the camera's own K.
-  const int ox = static_cast<int>(std::ceil(-xmin)) + 2, oy = static_cast<int>(std::ceil(-ymin)) + 2;
+  // Integer offsets keep the ideal pixel grid aligned with the camera's own K; the margin
+  // leaves room for motion blur, which samples the render away from the camera's rays.
+  const int ox = static_cast<int>(std::ceil(-xmin)) + 2 + kMaxBlurMargin;
+  const int oy = static_cast<int>(std::ceil(-ymin)) + 2 + kMaxBlurMargin;
   view_.fx = k.fx, view_.fy = k.fy, view_.cx = k.cx + ox, view_.cy = k.cy + oy;
-  view_.width = static_cast<int>(std::ceil(xmax)) + ox + 3;
-  view_.height = static_cast<int>(std::ceil(ymax)) + oy + 3;
+  view_.width = static_cast<int>(std::ceil(xmax)) + ox + 3 + kMaxBlurMargin;
+  view_.height = static_cast<int>(std::ceil(ymax)) + oy + 3 + kMaxBlurMargin;
   cv::Mat needed = cv::Mat::zeros(view_.height, view_.width, CV_8U);
   ideal_xy_.create(H, W, CV_32FC2);
   for (int v = 0; v < H; ++v)
@@ -49,24 +51,12 @@ LensModel::LensModel(const camera::CameraModel& camera) {
       for (int r = std::max(0, y0); r <= std::min(view_.height - 1, y0 + 3); ++r)
         for (int c = std::max(0, x0); c <= std::min(view_.width - 1, x0 + 3); ++c) needed.at<uint8_t>(r, c) = 1;
     }
-  view_.row_begin.assign(view_.height, 0);
-  view_.row_end.assign(view_.height, 0);
-  view_.hole_begin.assign(view_.height, 0);
-  view_.hole_end.assign(view_.height, 0);
-  for (int r = 0; r < view_.height; ++r) {
-    const auto* m = needed.ptr<uint8_t>(r);
-    int first = -1, last = -1, gap_begin = 0, gap_end = 0;
-    for (int c = 0; c < view_.width; ++c) {
-      if (!m[c]) continue;
-      if (first < 0) first = c;
-      if (last >= 0 && c - last - 1 > gap_end - gap_begin) gap_begin = last + 1, gap_end = c;
-      last = c;
-    }
-    if (first < 0) continue;
-    view_.row_begin[r] = first;
-    view_.row_end[r] = last + 1;
-    view_.hole_begin[r] = gap_begin;
-    view_.hole_end[r] = gap_end;
+  view_.drawn = RowRuns::from_mask(needed);
+  for (int margin : {2, 4, 6, 8, 12, 16, 24, 32, 40, kMaxBlurMargin}) {
+    cv::Mat dilated, ring;
+    cv::dilate(needed, dilated, cv::Mat::ones(2 * margin + 1, 2 * margin + 1, CV_8U));
+    cv::subtract(dilated, needed, ring);
+    blur_regions_.push_back({margin, RowRuns::from_mask(dilated), RowRuns::from_mask(ring)});
   }
   tap_index_.resize(static_cast<size_t>(W) * H);
   tap_fx_.resize(tap_index_.size());
@@ -87,7 +77,15 @@ LensModel::LensModel(const camera::CameraModel& camera) {
 #endif
 }
 
+const BlurRegion& LensModel::blur_region(double shift_px) const {
+  for (const auto& r : blur_regions_)
+    if (r.margin >= shift_px) return r;
+  return blur_regions_.back();
+}
+
 namespace {
+
+constexpr size_t kPrefetchAhead = 64;  // pixels
 
 inline float lerp4(float p00, float p01, float p10, float p11, float fx, float fy) {
   const float a = p00 + fx * (p01 - p00);
@@ -98,15 +96,22 @@ inline float lerp4(float p00, float p01, float p10, float p11, float fx, float f
 #if defined(__x86_64__) && defined(__GNUC__)
 __attribute__((target("avx2"))) void distort_avx2(const float* src, int stride, const int32_t* index,
                                                    const float* fx, const float* fy, float* dst, size_t n) {
-  const __m256i down = _mm256_set1_epi32(stride), one = _mm256_set1_epi32(1);
   size_t i = 0;
   for (; i + 8 <= n; i += 8) {
-    const __m256i idx = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index + i));
-    const __m256 p00 = _mm256_i32gather_ps(src, idx, 4);
-    const __m256 p01 = _mm256_i32gather_ps(src, _mm256_add_epi32(idx, one), 4);
-    const __m256i idx1 = _mm256_add_epi32(idx, down);
-    const __m256 p10 = _mm256_i32gather_ps(src, idx1, 4);
-    const __m256 p11 = _mm256_i32gather_ps(src, _mm256_add_epi32(idx1, one), 4);
+    // The taps follow the lens's curves through the ideal image, which the hardware
+    // prefetcher does not foresee: ask for the lines a few groups ahead.
+    if (i + kPrefetchAhead < n) {
+      __builtin_prefetch(src + index[i + kPrefetchAhead]);
+      __builtin_prefetch(src + index[i + kPrefetchAhead] + stride);
+    }
+    // Plain loads: a gather stalls as a whole on any cache miss.
+    alignas(32) float t00[8], t01[8], t10[8], t11[8];
+    for (int k = 0; k < 8; ++k) {
+      const float* q = src + index[i + k];
+      t00[k] = q[0], t01[k] = q[1], t10[k] = q[stride], t11[k] = q[stride + 1];
+    }
+    const __m256 p00 = _mm256_load_ps(t00), p01 = _mm256_load_ps(t01);
+    const __m256 p10 = _mm256_load_ps(t10), p11 = _mm256_load_ps(t11);
     const __m256 x = _mm256_loadu_ps(fx + i), y = _mm256_loadu_ps(fy + i);
     const __m256 a = _mm256_add_ps(p00, _mm256_mul_ps(x, _mm256_sub_ps(p01, p00)));
     const __m256 b = _mm256_add_ps(p10, _mm256_mul_ps(x, _mm256_sub_ps(p11, p10)));

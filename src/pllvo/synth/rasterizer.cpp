@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <climits>
+#include <cstdint>
 #include <cstring>
 
 #include <Eigen/LU>
@@ -75,6 +77,7 @@ struct Span {
   float* zb;
   int32_t* id;
   int c0, c1;
+  int row_end;       // columns of the row buffers (whole-vector stores stay below it)
   float w0, s0, t0;  // w, S*w and T*w at column c0
 };
 
@@ -105,10 +108,17 @@ __attribute__((target("avx2"))) inline __m256 bilinear8(const Rasterizer::QuadSh
   const __m256i step = _mm256_set1_epi32(q.step[l]);
   const __m256i idx =
       _mm256_add_epi32(_mm256_add_epi32(_mm256_set1_epi32(q.offset[l]), _mm256_mullo_epi32(yi, step)), xi);
-  // One 32-bit gather fetches two horizontally adjacent 16-bit texels.
-  const auto* base = reinterpret_cast<const int*>(q.data);
-  const __m256i g0 = _mm256_i32gather_epi32(base, idx, 2);
-  const __m256i g1 = _mm256_i32gather_epi32(base, _mm256_add_epi32(idx, step), 2);
+  // One 32-bit load fetches two horizontally adjacent 16-bit texels; plain loads, because a
+  // gather stalls as a whole on any cache miss.
+  alignas(32) int32_t at[8];
+  alignas(32) uint32_t top[8], bottom[8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(at), idx);
+  for (int k = 0; k < 8; ++k) {
+    std::memcpy(&top[k], q.data + at[k], sizeof(uint32_t));
+    std::memcpy(&bottom[k], q.data + at[k] + q.step[l], sizeof(uint32_t));
+  }
+  const __m256i g0 = _mm256_load_si256(reinterpret_cast<const __m256i*>(top));
+  const __m256i g1 = _mm256_load_si256(reinterpret_cast<const __m256i*>(bottom));
   const __m256i lo = _mm256_set1_epi32(0xffff);
   const __m256 p00 = _mm256_cvtepi32_ps(_mm256_and_si256(g0, lo)), p01 = _mm256_cvtepi32_ps(_mm256_srli_epi32(g0, 16));
   const __m256 p10 = _mm256_cvtepi32_ps(_mm256_and_si256(g1, lo)), p11 = _mm256_cvtepi32_ps(_mm256_srli_epi32(g1, 16));
@@ -124,6 +134,18 @@ __attribute__((target("avx2"))) inline __m256 fast_log2_8(__m256 v) {
   const __m256 m = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_and_si256(bits, _mm256_set1_epi32(0x7fffff))),
                                  _mm256_set1_ps(1.0f / 8388608.0f));
   return _mm256_add_ps(e, _mm256_mul_ps(m, _mm256_sub_ps(_mm256_set1_ps(1.3465f), _mm256_mul_ps(_mm256_set1_ps(0.3465f), m))));
+}
+
+__attribute__((target("avx2"))) inline __m256i hmin8(__m256i v) {
+  v = _mm256_min_epi32(v, _mm256_permute2x128_si256(v, v, 1));
+  v = _mm256_min_epi32(v, _mm256_shuffle_epi32(v, 0x4e));
+  return _mm256_min_epi32(v, _mm256_shuffle_epi32(v, 0xb1));
+}
+
+__attribute__((target("avx2"))) inline __m256i hmax8(__m256i v) {
+  v = _mm256_max_epi32(v, _mm256_permute2x128_si256(v, v, 1));
+  v = _mm256_max_epi32(v, _mm256_shuffle_epi32(v, 0x4e));
+  return _mm256_max_epi32(v, _mm256_shuffle_epi32(v, 0xb1));
 }
 
 __attribute__((target("avx2"))) void shade_span_avx2(const Rasterizer::QuadShading& q, const Span& sp, float gain) {
@@ -152,19 +174,14 @@ __attribute__((target("avx2"))) void shade_span_avx2(const Rasterizer::QuadShadi
     const __m256 lod = _mm256_blendv_ps(lod_raw, _mm256_setzero_ps(), _mm256_cmp_ps(rho2, one, _CMP_LE_OQ));
     const __m256i li = _mm256_cvttps_epi32(lod);
     const __m256 f = _mm256_sub_ps(lod, _mm256_cvtepi32_ps(li));
-    alignas(32) int levels[8];
-    alignas(32) int passed[8];
-    _mm256_store_si256(reinterpret_cast<__m256i*>(levels), li);
-    _mm256_store_si256(reinterpret_cast<__m256i*>(passed), pass);
-    int l = -1;
-    bool uniform = true;
-    for (int k = 0; k < n; ++k)
-      if (passed[k]) {
-        if (l < 0) l = levels[k];
-        uniform = uniform && levels[k] == l;
-      }
-    if (!uniform) {  // the mip level changes inside these 8 pixels: one at a time
+    // One mip level for the passing lanes (the usual case) takes the vector path.
+    const __m256i lmin = hmin8(_mm256_blendv_epi8(_mm256_set1_epi32(INT32_MAX), li, pass));
+    const __m256i lmax = hmax8(_mm256_blendv_epi8(_mm256_set1_epi32(INT32_MIN), li, pass));
+    const int l = _mm256_cvtsi256_si32(lmin);
+    if (l != _mm256_cvtsi256_si32(lmax)) {  // the mip level changes inside these 8 pixels: one at a time
+      alignas(32) int passed[8];
       alignas(32) float Sv[8], Tv[8], iwv[8], wv[8];
+      _mm256_store_si256(reinterpret_cast<__m256i*>(passed), pass);
       _mm256_store_ps(Sv, S);
       _mm256_store_ps(Tv, T);
       _mm256_store_ps(iwv, iw);
@@ -180,9 +197,20 @@ __attribute__((target("avx2"))) void shade_span_avx2(const Rasterizer::QuadShadi
     __m256 v = bilinear8(q, l, S, T);
     const int l1 = std::min(l + 1, q.num_levels - 1);
     if (_mm256_movemask_ps(_mm256_cmp_ps(f, _mm256_setzero_ps(), _CMP_NEQ_OQ)) != 0) v = _mm256_add_ps(v, _mm256_mul_ps(f, _mm256_sub_ps(bilinear8(q, l1, S, T), v)));
-    _mm256_maskstore_ps(sp.rad + c, pass, _mm256_mul_ps(v, _mm256_set1_ps(scale)));
-    _mm256_maskstore_ps(sp.zb + c, pass, w);
-    if (sp.id) _mm256_maskstore_epi32(sp.id + c, pass, _mm256_set1_epi32(q.index));
+    v = _mm256_mul_ps(v, _mm256_set1_ps(scale));
+    if (c + 8 <= sp.row_end) {  // masked stores are slow on some CPUs: blend with what is there
+      const __m256 m = _mm256_castsi256_ps(pass);
+      _mm256_storeu_ps(sp.rad + c, _mm256_blendv_ps(_mm256_loadu_ps(sp.rad + c), v, m));
+      _mm256_storeu_ps(sp.zb + c, _mm256_blendv_ps(_mm256_loadu_ps(sp.zb + c), w, m));
+      if (sp.id)
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(sp.id + c),
+                            _mm256_blendv_epi8(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(sp.id + c)),
+                                               _mm256_set1_epi32(q.index), pass));
+    } else {
+      _mm256_maskstore_ps(sp.rad + c, pass, v);
+      _mm256_maskstore_ps(sp.zb + c, pass, w);
+      if (sp.id) _mm256_maskstore_epi32(sp.id + c, pass, _mm256_set1_epi32(q.index));
+    }
   }
 }
 #endif
@@ -190,9 +218,7 @@ __attribute__((target("avx2"))) void shade_span_avx2(const Rasterizer::QuadShadi
 }  // namespace
 
 Rasterizer::Rasterizer(IdealView view, double near_m, bool simd) : view_(std::move(view)), near_(near_m) {
-  if (view_.width <= 0 || view_.height <= 0 || static_cast<int>(view_.row_begin.size()) != view_.height ||
-      static_cast<int>(view_.row_end.size()) != view_.height ||
-      static_cast<int>(view_.hole_begin.size()) != view_.height || static_cast<int>(view_.hole_end.size()) != view_.height)
+  if (view_.width <= 0 || view_.height <= 0 || static_cast<int>(view_.drawn.first.size()) != view_.height + 1)
     throw InternalError("Rasterizer: malformed ideal view");
   // Zero outside the drawn region once; render() clears only the drawn region.
   radiance_ = cv::Mat::zeros(view_.height, view_.width, CV_32F);
@@ -205,16 +231,44 @@ Rasterizer::Rasterizer(IdealView view, double near_m, bool simd) : view_(std::mo
 #endif
 }
 
-void Rasterizer::render(const Scene& scene, const RadianceState& radiance, const Eigen::Isometry3d& T_cam_world,
-                        float gain, bool with_ids) {
-  with_ids_ = with_ids;
-  // Clear only what is drawn: most of the cost here is memory traffic.
-  for (int y = 0; y < view_.height; ++y) {
-    const int c0 = view_.row_begin[y], n = view_.row_end[y] - c0;
-    if (n <= 0) continue;
-    std::fill_n(radiance_.ptr<float>(y) + c0, n, 0.0f);
-    std::fill_n(inv_depth_.ptr<float>(y) + c0, n, 0.0f);
+RowRuns RowRuns::from_mask(const cv::Mat& mask) {
+  RowRuns r;
+  r.first.reserve(mask.rows + 1);
+  for (int y = 0; y < mask.rows; ++y) {
+    r.first.push_back(static_cast<int>(r.begin.size()));
+    const auto* m = mask.ptr<uint8_t>(y);
+    for (int x = 0; x < mask.cols;) {
+      if (!m[x]) {
+        ++x;
+        continue;
+      }
+      const int x0 = x;
+      while (x < mask.cols && m[x]) ++x;
+      r.begin.push_back(x0);
+      r.end.push_back(x);
+    }
   }
+  r.first.push_back(static_cast<int>(r.begin.size()));
+  return r;
+}
+
+size_t RowRuns::pixels() const {
+  size_t n = 0;
+  for (size_t k = 0; k < begin.size(); ++k) n += end[k] - begin[k];
+  return n;
+}
+
+void Rasterizer::render(const Scene& scene, const RadianceState& radiance, const Eigen::Isometry3d& T_cam_world,
+                        float gain, bool with_ids, const RowRuns* pixels) {
+  with_ids_ = with_ids;
+  const RowRuns& runs = pixels ? *pixels : view_.drawn;
+  if (static_cast<int>(runs.first.size()) != view_.height + 1) throw InternalError("Rasterizer: runs of another view");
+  // Clear only what is drawn: most of the cost here is memory traffic.
+  for (int y = 0; y < view_.height; ++y)
+    for (int k = runs.first[y]; k < runs.first[y + 1]; ++k) {
+      std::fill_n(radiance_.ptr<float>(y) + runs.begin[k], runs.end[k] - runs.begin[k], 0.0f);
+      std::fill_n(inv_depth_.ptr<float>(y) + runs.begin[k], runs.end[k] - runs.begin[k], 0.0f);
+    }
   if (with_ids) ids_.setTo(-1);
   // Front to back, so that hidden pixels fail the depth test before their texture lookup.
   const Eigen::Vector3d eye = T_cam_world.inverse().translation();
@@ -222,11 +276,11 @@ void Rasterizer::render(const Scene& scene, const RadianceState& radiance, const
   for (size_t i = 0; i < scene.quads.size(); ++i)
     if (scene.quads[i].faces(eye)) order_.emplace_back(distance_to_quad(scene.quads[i], eye), static_cast<int>(i));
   std::sort(order_.begin(), order_.end());
-  for (const auto& [dist, i] : order_) draw_quad(scene.quads[i], i, radiance.quads[i], T_cam_world, gain);
+  for (const auto& [dist, i] : order_) draw_quad(scene.quads[i], i, radiance.quads[i], T_cam_world, gain, runs);
 }
 
 void Rasterizer::draw_quad(const Quad& quad, int index, const MipTexture& tex, const Eigen::Isometry3d& T_cam_world,
-                           float gain) {
+                           float gain, const RowRuns& pixels) {
   Eigen::Vector3d P[4];
   for (int k = 0; k < 4; ++k) P[k] = T_cam_world * quad.corner(k);
 
@@ -299,20 +353,17 @@ void Rasterizer::draw_quad(const Quad& quad, int index, const MipTexture& tex, c
       }
     }
     if (xl > xr) continue;
-    const int x_begin = std::max(view_.row_begin[y], static_cast<int>(std::ceil(std::max(xl, -1.0))));
-    const int x_end = std::min(view_.row_end[y], static_cast<int>(std::ceil(std::min(xr, 1e9))));
-    // The needed columns minus the row's hole: up to two pieces.
-    const int pieces[2][2] = {{x_begin, std::min(x_end, view_.hole_begin[y])},
-                              {std::max(x_begin, view_.hole_end[y]), x_end}};
-    const bool has_hole = view_.hole_end[y] > view_.hole_begin[y];
-    for (int k = 0; k < (has_hole ? 2 : 1); ++k) {
+    const int x_begin = static_cast<int>(std::ceil(std::max(xl, -1.0)));
+    const int x_end = static_cast<int>(std::ceil(std::min(xr, 1e9)));
+    for (int k = pixels.first[y]; k < pixels.first[y + 1]; ++k) {
       Span sp;
-      sp.c0 = has_hole ? pieces[k][0] : x_begin;
-      sp.c1 = has_hole ? pieces[k][1] : x_end;
+      sp.c0 = std::max(x_begin, pixels.begin[k]);
+      sp.c1 = std::min(x_end, pixels.end[k]);
       if (sp.c0 >= sp.c1) continue;
       sp.s0 = static_cast<float>(A(0, 0) * sp.c0 + A(0, 1) * y + A(0, 2));
       sp.t0 = static_cast<float>(A(1, 0) * sp.c0 + A(1, 1) * y + A(1, 2));
       sp.w0 = static_cast<float>(A(2, 0) * sp.c0 + A(2, 1) * y + A(2, 2));
+      sp.row_end = view_.width;
       sp.rad = radiance_.ptr<float>(y);
       sp.zb = inv_depth_.ptr<float>(y);
       sp.id = with_ids_ ? ids_.ptr<int32_t>(y) : nullptr;

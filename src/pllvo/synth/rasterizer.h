@@ -13,14 +13,24 @@
 
 namespace pllvo::synth {
 
+/// A set of pixels as runs of columns per row: the runs of row y are [begin[k], end[k]) for
+/// k in [first[y], first[y + 1]).
+struct RowRuns {
+  std::vector<int> first, begin, end;
+
+  /// The non-zero pixels of a CV_8U mask.
+  static RowRuns from_mask(const cv::Mat& mask);
+  size_t pixels() const;
+};
+
 /// The ideal pinhole image: larger than the camera image so that it covers the distorted
-/// camera's whole field of view. Only the pixels the camera samples are drawn: columns
-/// [row_begin, row_end) of each row except [hole_begin, hole_end) (under barrel distortion
-/// the rows near the top and bottom are needed only towards the corners).
+/// camera's whole field of view (plus a margin for motion blur). Only the pixels the
+/// camera samples are drawn (`drawn`; under barrel distortion the rows near the top and
+/// bottom are needed only towards the corners).
 struct IdealView {
   int width = 0, height = 0;
   double fx = 0, fy = 0, cx = 0, cy = 0;
-  std::vector<int> row_begin, row_end, hole_begin, hole_end;
+  RowRuns drawn;
 
   /// Pixel of a point in the camera frame (z > 0).
   Eigen::Vector2d project(const Eigen::Vector3d& p) const {
@@ -37,8 +47,10 @@ class Rasterizer {
 
   /// Renders from camera pose T_cam_world; radiance is multiplied by `gain`. Quad ids are
   /// written only `with_ids` (they cost memory traffic and only the ground truth needs them).
+  /// Only the pixels of `pixels` are cleared and drawn (default: the view's `drawn`), so a
+  /// second call with other pixels and the same pose extends the image.
   void render(const Scene& scene, const RadianceState& radiance, const Eigen::Isometry3d& T_cam_world,
-              float gain, bool with_ids = true);
+              float gain, bool with_ids = true, const RowRuns* pixels = nullptr);
 
   const cv::Mat& radiance() const { return radiance_; }        ///< CV_32F
   const cv::Mat& inverse_depth() const { return inv_depth_; }  ///< CV_32F, 1/z; 0 where empty
@@ -48,7 +60,7 @@ class Rasterizer {
 
  private:
   void draw_quad(const Quad& quad, int index, const MipTexture& tex, const Eigen::Isometry3d& T_cam_world,
-                 float gain);
+                 float gain, const RowRuns& pixels);
 
   IdealView view_;
   double near_;

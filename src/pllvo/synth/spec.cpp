@@ -91,7 +91,11 @@ void read_sensor(const ConfigNode& n, SensorSpec& s) {
   n.get("vignetting", s.vignetting);
   n.get("psf_sigma_px", s.psf_sigma_px);
   n.get("motion_blur", s.motion_blur);
+  n.get("blur_method", s.blur_method);
   n.get("blur_step_px", s.blur_step_px);
+  n.get("blur_render_px", s.blur_render_px);
+  n.get("blur_sample_px", s.blur_sample_px);
+  n.get("blur_max_samples", s.blur_max_samples);
   n.get("max_subframes", s.max_subframes);
   n.get("near_m", s.near_m);
   n.reject_unknown_keys();
@@ -192,6 +196,11 @@ void validate(const SequenceSpec& s, const std::filesystem::path& file) {
   check(n.psf_sigma_px >= 0 && n.psf_sigma_px <= 5, "sensor.psf_sigma_px", "must be in [0, 5]");
   check(n.blur_step_px > 0 && n.max_subframes >= 1 && n.max_subframes <= 64, "sensor.max_subframes",
         "needs blur_step_px > 0 and 1 <= max_subframes <= 64");
+  check(n.blur_method == "flow" || n.blur_method == "renders", "sensor.blur_method",
+        "unknown blur method '" + n.blur_method + "' (flow, renders)");
+  check(n.blur_render_px > 0 && n.blur_sample_px >= 0.25 && n.blur_sample_px <= 8, "sensor.blur_render_px",
+        "needs blur_render_px > 0 and blur_sample_px in [0.25, 8]");
+  check(n.blur_max_samples >= 1 && n.blur_max_samples <= 256, "sensor.blur_max_samples", "must be in [1, 256]");
   check(n.near_m > 0 && n.near_m < 1, "sensor.near_m", "must be in (0, 1) metres");
   const auto& sc = s.scene;
   check(sc.layout == "room" || sc.layout == "corridor", "scene.layout",
@@ -308,7 +317,11 @@ std::string to_yaml(const SequenceSpec& s) {
   kv("vignetting", s.sensor.vignetting);
   kv("psf_sigma_px", s.sensor.psf_sigma_px);
   kv("motion_blur", s.sensor.motion_blur);
+  kv("blur_method", s.sensor.blur_method);
   kv("blur_step_px", s.sensor.blur_step_px);
+  kv("blur_render_px", s.sensor.blur_render_px);
+  kv("blur_sample_px", s.sensor.blur_sample_px);
+  kv("blur_max_samples", s.sensor.blur_max_samples);
   kv("max_subframes", s.sensor.max_subframes);
   kv("near_m", s.sensor.near_m);
   out << YAML::EndMap;

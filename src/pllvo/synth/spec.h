@@ -70,8 +70,14 @@ struct SensorSpec {
   double vignetting = 0.5;        ///< 0: none, 1: full cos^4 falloff
   double psf_sigma_px = 0.6;      ///< optical blur (Gaussian sigma in pixels); 0: none
   bool motion_blur = true;
-  double blur_step_px = 2.0;      ///< at most this image motion between sub-exposures
-  int max_subframes = 15;
+  /// "flow": a few renders, each averaged along every pixel's own image motion (fast);
+  /// "renders": one full render per sub-exposure (the reference; 3-8x slower in low light).
+  std::string blur_method = "flow";
+  double blur_step_px = 2.0;      ///< renders: at most this image motion between sub-exposures
+  double blur_render_px = 64.0;   ///< flow: at most this image motion covered by one render
+  double blur_sample_px = 1.0;    ///< flow: spacing of the samples along each pixel's path...
+  int blur_max_samples = 32;      ///< flow: ...up to this many (longer paths: sparser samples)
+  int max_subframes = 15;         ///< renders per frame at most
   double near_m = 0.05;           ///< near clipping plane
 };
 

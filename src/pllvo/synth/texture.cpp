@@ -65,6 +65,23 @@ void fill_rect(Texture& t, int x0, int y0, int x1, int y1, double value, bool li
   add_edge(t, r.x, r.y + r.height, r.x, r.y, EdgeKind::texture_step);
 }
 
+/// Lines `width` texels wide of `value` every `spacing` texels (vertical ones from column
+/// first_x, horizontal ones from row first_y, none within `width` of the border), each listed
+/// as a thin-line edge along its centre: tile grout, ceiling grids.
+void grid_lines(Texture& t, int first_x, int first_y, int spacing, int width, double value) {
+  const int w = t.image.cols, h = t.image.rows;
+  for (int x0 = first_x; x0 < w - width; x0 += spacing) {
+    if (x0 < width) continue;
+    fill_rect(t, x0 - width / 2, 0, x0 - width / 2 + width, h, value, false);
+    add_edge(t, x0 - width / 2 + 0.5 * width, 0, x0 - width / 2 + 0.5 * width, h, EdgeKind::texture_line);
+  }
+  for (int y0 = first_y; y0 < h - width; y0 += spacing) {
+    if (y0 < width) continue;
+    fill_rect(t, 0, y0 - width / 2, w, y0 - width / 2 + width, value, false);
+    add_edge(t, 0, y0 - width / 2 + 0.5 * width, w, y0 - width / 2 + 0.5 * width, EdgeKind::texture_line);
+  }
+}
+
 /// Blends `value` into `img` with the anti-aliased coverage of what `draw` paints (255) into
 /// an 8-bit mask of the region `roi`; `draw` gets the mask and the ROI's offset.
 template <typename Draw>
@@ -221,15 +238,7 @@ Texture floor_tiles(const Extent& e, Random& rng, double tile_m) {
       const cv::Rect r = cv::Rect(x0, y0, tile, tile) & cv::Rect(0, 0, size.width, size.height);
       t.image(r) += shade + rng.uniform(-0.06, 0.06);
     }
-  const double grout = 0.22;
-  for (int x0 = tile; x0 < size.width - g; x0 += tile) {
-    fill_rect(t, x0 - g / 2, 0, x0 - g / 2 + g, size.height, grout, false);
-    add_edge(t, x0 - g / 2 + 0.5 * g, 0, x0 - g / 2 + 0.5 * g, size.height, EdgeKind::texture_line);
-  }
-  for (int y0 = tile; y0 < size.height - g; y0 += tile) {
-    fill_rect(t, 0, y0 - g / 2, size.width, y0 - g / 2 + g, grout, false);
-    add_edge(t, 0, y0 - g / 2 + 0.5 * g, size.width, y0 - g / 2 + 0.5 * g, EdgeKind::texture_line);
-  }
+  grid_lines(t, tile, tile, tile, g, 0.22);  // grout
   clamp01(t.image);
   return t;
 }
@@ -243,16 +252,7 @@ Texture ceiling_tiles(const Extent& e, Random& rng) {
   const double bar_value = 0.86;
   // Grid anchored at the texture's centre, as ceilings are laid out from the middle.
   const int ox = (size.width / 2) % tile, oy = (size.height / 2) % tile;
-  for (int x0 = ox; x0 < size.width - bar; x0 += tile) {
-    if (x0 < bar) continue;
-    fill_rect(t, x0 - bar / 2, 0, x0 - bar / 2 + bar, size.height, bar_value, false);
-    add_edge(t, x0 - bar / 2 + 0.5 * bar, 0, x0 - bar / 2 + 0.5 * bar, size.height, EdgeKind::texture_line);
-  }
-  for (int y0 = oy; y0 < size.height - bar; y0 += tile) {
-    if (y0 < bar) continue;
-    fill_rect(t, 0, y0 - bar / 2, size.width, y0 - bar / 2 + bar, bar_value, false);
-    add_edge(t, 0, y0 - bar / 2 + 0.5 * bar, size.width, y0 - bar / 2 + 0.5 * bar, EdgeKind::texture_line);
-  }
+  grid_lines(t, ox, oy, tile, bar, bar_value);
   clamp01(t.image);
   return t;
 }
