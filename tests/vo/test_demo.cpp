@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "pllvo/vo/demo.h"
+#include "pllvo/vo/point_frontend.h"
 
 namespace fs = std::filesystem;
 namespace {
@@ -43,7 +43,9 @@ TEST(DemoCli, RendersRunsAndReportsAteAndSpeed) {
   EXPECT_NE(r.output.find("61/61 frames tracked"), std::string::npos) << r.output;
   // The front end "auto" chose, and the notice when it is the ORB fallback.
   std::string notice;
-  const std::string frontend = pllvo::vo::resolve_frontend(pllvo::vo::FrontendConfig{}, &notice);
+  pllvo::vo::FrontendConfig automatic;
+  automatic.type = "auto";
+  const std::string frontend = pllvo::vo::resolve_frontend_type(automatic, &notice);
   EXPECT_NE(r.output.find(frontend + " front end"), std::string::npos) << r.output;
   if (frontend == "orb") EXPECT_NE(r.output.find("notice: no SuperPoint weights"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(out / "sequence" / "mav0" / "cam1" / "data.csv"));
@@ -62,9 +64,10 @@ TEST(DemoCli, AConfiguredWeightsPathThatDoesNotExistIsAnError) {
   const fs::path empty = fs::temp_directory_path() / "pllvo_vo_demo_no_models";
   fs::create_directories(empty);
   pllvo::vo::FrontendConfig c;
+  c.type = "auto";
   c.superpoint_weights = (empty / "missing.safetensors").string();
   std::string notice;
-  EXPECT_THROW(pllvo::vo::resolve_frontend(c, &notice), std::exception);
+  EXPECT_THROW(pllvo::vo::resolve_frontend_type(c, &notice), std::exception);
 }
 
 }  // namespace

@@ -10,7 +10,7 @@
 #include "pllvo/io/sequence.h"
 #include "pllvo/synth/sequence_writer.h"
 #include "pllvo/synth/spec.h"
-#include "pllvo/vo/superpoint_frontend.h"
+#include "pllvo/vo/point_frontend.h"
 
 namespace pllvo::vo {
 namespace fs = std::filesystem;
@@ -56,15 +56,6 @@ constexpr Module kKeyframeModules[] = {
 
 }  // namespace
 
-std::string resolve_frontend(const FrontendConfig& config, std::string* notice) {
-  if (notice) notice->clear();
-  if (find_superpoint_weights(config)) return "superpoint";
-  if (notice)
-    *notice = "no SuperPoint weights found (frontend.superpoint_weights, $PLLVO_MODELS, models/): "
-              "running the ORB front end instead";
-  return "orb";
-}
-
 DemoResult run_demo(const DemoOptions& options, VoConfig config) {
   DemoResult result;
   result.preset = options.preset;
@@ -74,16 +65,10 @@ DemoResult run_demo(const DemoOptions& options, VoConfig config) {
   spec.camera.stereo = options.stereo;
   synth::validate(spec);
 
-  if (options.frontend == "auto") {
-    std::string notice;
-    config.frontend.type = resolve_frontend(config.frontend, &notice);
-    if (!notice.empty()) {
-      result.notices.push_back(notice);
-      say(options, "notice: " + notice);
-    }
-  } else {
-    config.frontend.type = options.frontend;
-  }
+  config.frontend.type = options.frontend;
+  std::string notice;
+  config.frontend.type = resolve_frontend_type(config.frontend, &notice);
+  if (!notice.empty()) result.notices.push_back(notice);
   config.validate();
   result.frontend = config.frontend.type;
 

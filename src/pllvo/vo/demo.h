@@ -20,7 +20,7 @@ struct DemoOptions {
   /// Where the sequence and the run's outputs go (<out>/sequence, <out>/run); empty: a
   /// temporary folder, removed afterwards.
   std::filesystem::path out_dir;
-  /// auto: SuperPoint when its weights are found, else ORB (with a notice); or a front end name.
+  /// auto: SuperPoint when its weights are found, else ORB (with a notice; resolve_frontend_type).
   std::string frontend = "auto";
   /// Progress and notices (a line each); may be empty.
   std::function<void(const std::string&)> log;
@@ -36,12 +36,8 @@ struct DemoResult {
   RunSummary summary;
 };
 
-/// The front end "auto" resolves to with this config: superpoint when SuperPoint weights are
-/// found (frontend.superpoint_weights, then the nn lookup), else orb; `notice` says why.
-std::string resolve_frontend(const FrontendConfig& config, std::string* notice = nullptr);
-
 /// Renders the sequence, runs the odometry with `config` (its frontend.type replaced by
-/// options.frontend, "auto" resolved by resolve_frontend) and returns what it measured.
+/// options.frontend, "auto" resolved by resolve_frontend_type) and returns what it measured.
 DemoResult run_demo(const DemoOptions& options, VoConfig config);
 
 /// The report `pllvo demo` prints: ATE RMSE (m and % of the path), frames per second and

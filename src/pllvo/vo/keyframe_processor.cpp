@@ -50,7 +50,7 @@ KeyframeProcessor::KeyframeProcessor(const VoConfig& config, const Pinhole& came
       map_(map),
       stats_(stats),
       frontend_(make_point_frontend(config.frontend)),
-      matcher_(make_keyframe_matcher(config.mapping, config.frontend.type)),
+      matcher_(make_keyframe_matcher(config.mapping, frontend_->name())),
       frontend_name_(frontend_->name()),
       stereo_tracker_(config.klt) {
   if (config_.pipeline.lines)

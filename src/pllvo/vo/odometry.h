@@ -43,6 +43,8 @@ class Odometry {
   bool stereo() const { return rectifier_.stereo(); }
   /// The keyframe matcher actually used (after the LightGlue -> MNN fallback).
   std::string matcher_name() const { return processor_.matcher_name(); }
+  /// The point front end actually used (frontend.type auto resolved).
+  const std::string& frontend_name() const { return processor_.frontend_name(); }
   int resets() const { return resets_; }
   /// Keyframe poses (T_world_cam0, after bundle adjustment) with their timestamps.
   io::Trajectory keyframe_trajectory() const;

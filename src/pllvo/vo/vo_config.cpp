@@ -118,8 +118,8 @@ void VoConfig::read(const ConfigNode& node) {
 
 void VoConfig::validate(const std::filesystem::path& file) const {
   const auto& f = frontend;
-  require(f.type == "superpoint" || f.type == "orb" || f.type == "shitomasi", file, "frontend.type",
-          "must be superpoint, orb or shitomasi (got '" + f.type + "')");
+  require(f.type == "auto" || f.type == "superpoint" || f.type == "orb" || f.type == "shitomasi", file,
+          "frontend.type", "must be auto, superpoint, orb or shitomasi (got '" + f.type + "')");
   require(f.max_points > 0, file, "frontend.max_points", "must be positive");
   require(f.grid_cols > 0 && f.grid_rows > 0, file, "frontend.grid_cols", "grid must be at least 1x1");
   require(f.superpoint_input_scale > 0 && f.superpoint_input_scale <= 1, file,

@@ -13,7 +13,7 @@ namespace pllvo::vo {
 
 /// Point detection + description on keyframes (paper 3.1). One of three front ends.
 struct FrontendConfig {
-  std::string type = "orb";  ///< superpoint | orb | shitomasi
+  std::string type = "orb";  ///< auto (superpoint if weights are found, else orb) | superpoint | orb | shitomasi
   int max_points = 400;      ///< per keyframe; 300-500 keeps PnP well conditioned at low cost
   /// Detection is spread over a grid so points do not cluster on one textured patch.
   int grid_cols = 8;
