@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Installs the dependencies, builds pllvo and runs `pllvo demo`: renders a 12 s synthetic stereo
+# Installs the dependencies, builds pllvo and runs `pllvo demo`: renders a 10 s synthetic stereo
 # sequence (easy_normal, 752x480, exact ground truth), runs the visual odometry on it and prints
 # the ATE RMSE (metres and % of the path), frames per second and the per-module timing split.
 # With no SuperPoint weights installed (models/, $PLLVO_MODELS) it runs the ORB front end and

@@ -23,7 +23,6 @@ FrontendConfig superpoint_config(double input_scale) {
   c.type = "superpoint";
   c.superpoint_weights = shared_path("models/superpoint_v1.safetensors").string();
   c.superpoint_input_scale = input_scale;
-  c.equalize = false;
   return c;
 }
 

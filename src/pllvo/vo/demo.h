@@ -14,7 +14,7 @@ namespace pllvo::vo {
 
 struct DemoOptions {
   std::string preset = "easy_normal";  ///< a `pllvo synth --list` preset
-  double duration_s = 12;              ///< seconds of motion (20 frames/s)
+  double duration_s = 10;              ///< seconds of motion (20 frames/s)
   uint64_t seed = 1;
   bool stereo = true;
   /// Where the sequence and the run's outputs go (<out>/sequence, <out>/run); empty: a

@@ -69,7 +69,7 @@ SuperPointFrontend::SuperPointFrontend(const FrontendConfig& config)
 
 PointFeatures SuperPointFrontend::detect(const cv::Mat& raw, const std::vector<cv::Point2f>& tracked) {
   if (raw.empty() || raw.type() != CV_8UC1) throw InternalError("point front end: expects a CV_8UC1 image");
-  const cv::Mat image = config_.equalize ? equalize_for_detection(raw) : raw;
+  const cv::Mat image = config_.superpoint_equalize ? equalize_for_detection(raw) : raw;
   const nn::SuperPointDense dense = superpoint_.run_network(image);
   const nn::KeypointCandidates candidates =
       nn::find_candidates(dense.scores, superpoint_.config().nms_radius, superpoint_.config().remove_borders);

@@ -19,6 +19,7 @@ void read_frontend(const ConfigNode& n, FrontendConfig& c) {
   n.get("superpoint_threshold", c.superpoint_threshold);
   n.get("superpoint_adaptive_threshold", c.superpoint_adaptive_threshold);
   n.get("superpoint_nms_radius", c.superpoint_nms_radius);
+  n.get("superpoint_equalize", c.superpoint_equalize);
   n.get("equalize", c.equalize);
   n.reject_unknown_keys();
 }
