@@ -309,16 +309,17 @@ class LightGlue(nn.Module):
                     desc1, enc1, ind1 = desc1[:, keep], enc1[..., keep, :], ind1[keep]
                     prune1[ind1] += 1
 
+        dev = desc0.device
         out = {
-            "matches0": torch.full((m,), -1, dtype=torch.long),
-            "matches1": torch.full((n,), -1, dtype=torch.long),
-            "matching_scores0": torch.zeros(m),
-            "matching_scores1": torch.zeros(n),
+            "matches0": torch.full((m,), -1, dtype=torch.long, device=dev),
+            "matches1": torch.full((n,), -1, dtype=torch.long, device=dev),
+            "matching_scores0": torch.zeros(m, device=dev),
+            "matching_scores1": torch.zeros(n, device=dev),
             "stop": i + 1,
             "prune0": prune0 if pruning else torch.full((m,), conf["n_layers"], dtype=torch.long),
             "prune1": prune1 if pruning else torch.full((n,), conf["n_layers"], dtype=torch.long),
-            "matches": torch.zeros((0, 2), dtype=torch.long),
-            "scores": torch.zeros(0),
+            "matches": torch.zeros((0, 2), dtype=torch.long, device=dev),
+            "scores": torch.zeros(0, device=dev),
         }
         if desc0.shape[1] == 0 or desc1.shape[1] == 0:
             return out

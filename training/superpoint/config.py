@@ -4,6 +4,9 @@ Presets:
   cpu-small  ~2 h on 2 CPU cores (120x160 everywhere, short schedules): useful progress, not converged.
   gpu        closer to the paper's schedules (MagicPoint at 120x160, adaptation and joint training at
              240x320, 100 homographies); meant for one GPU.
+  gpu-short  the gpu schedules cut to fixed training times (shapes 3 min, joint 3.5 min): fits one
+             10-minute call on a lent GPU machine (an H200 with 16 cores: the CPU workers rendering batches
+             are the limit, not the GPU).
   smoke      seconds-long runs on tiny images for the smoke test.
 """
 import ast
@@ -28,6 +31,7 @@ class ShapesConfig:
     lr: float = 1e-3
     photometric: PhotometricParams = field(default_factory=lambda: PhotometricParams(p_dark=0.2, dark=DarkeningParams()))
     fixed_data: bool = False       # the same batch every step (smoke test: checks that the loss can decrease)
+    minutes: float = 0.0           # > 0: the stage trains for this long (summed over resumes) instead of `steps`
 
 
 @dataclass
@@ -57,6 +61,7 @@ class JointConfig:
     photometric: PhotometricParams = field(default_factory=lambda: PhotometricParams(dark=DarkeningParams()))
     init_from_shapes: bool = True  # start from the MagicPoint weights (the paper trains SuperPoint from scratch)
     fixed_data: bool = False
+    minutes: float = 0.0           # > 0: the stage trains for this long (summed over resumes) instead of `steps`
 
 
 @dataclass
@@ -85,6 +90,13 @@ def preset(name):
         config.joint.height, config.joint.width = 240, 320
         config.joint.batch, config.joint.steps = 16, 100000
         return config
+    if name == "gpu-short":
+        config = preset("gpu")
+        config.preset = name
+        config.checkpoint_every = 500
+        config.workers = 14
+        config.shapes.minutes, config.joint.minutes = 3.0, 3.5
+        return config
     if name == "smoke":
         config.checkpoint_every = 10
         config.log_every = 5
@@ -92,7 +104,7 @@ def preset(name):
         config.adaptation = AdaptationConfig(homographies=6, batch=6, threshold=0.01, max_items=3, min_mean_points=0.0)
         config.joint = JointConfig(height=48, width=64, batch=2, steps=40, fixed_data=True)
         return config
-    raise ValueError(f"unknown preset {name!r} (cpu-small, gpu, smoke)")
+    raise ValueError(f"unknown preset {name!r} (cpu-small, gpu, gpu-short, smoke)")
 
 
 def apply_override(config, assignment):

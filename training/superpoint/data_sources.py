@@ -3,7 +3,8 @@
 Nothing is downloaded or copied into the repository: images are read by path at run time from
   * ../shared/data (the real fixtures; `PLLVO_SHARED` overrides the location),
   * Debian's mate-backgrounds photographs (/usr/share/backgrounds/mate/nature, GPL-2+; installed by
-    training/superpoint/setup_training_data.sh),
+    training/superpoint/setup_training_data.sh; `PLLVO_PHOTOS` overrides the folder, e.g. on a GPU machine
+    without the package),
   * frames written by `pllvo synth` (any folder of PNG frames, e.g. EuRoC-layout output, via --synth-dir),
   * any extra folder of images (--image-dir).
 Held out of training, for evaluation only: all of scannet_pairs (the relative-pose benchmark) and all of
@@ -18,7 +19,7 @@ import cv2
 import numpy as np
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
-DEBIAN_PHOTOS = Path("/usr/share/backgrounds/mate/nature")
+DEBIAN_PHOTOS = Path(os.environ.get("PLLVO_PHOTOS", "/usr/share/backgrounds/mate/nature"))
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".pgm", ".ppm", ".bmp")
 
 

@@ -16,6 +16,7 @@ import torch
 
 from superpoint.network import OFFICIAL_NAMES, build_superpoint, read_weights
 from superpoint.safetensors_io import read_safetensors, write_safetensors
+from superpoint.trainer import load_state
 
 LICENCE = ("pllvo's own weights, under the pllvo project's licence; trained only on generated images, "
            "Debian mate-backgrounds photographs (GPL-2+) and the real images listed in 'data' (see docs/superpoint_training.md)")
@@ -24,7 +25,7 @@ LICENCE = ("pllvo's own weights, under the pllvo project's licence; trained only
 def _stage_summary(checkpoint_path):
     if not Path(checkpoint_path).is_file():
         return None
-    state = torch.load(checkpoint_path, map_location="cpu")
+    state = load_state(checkpoint_path)
     return {"steps": state["step"], "finished": state.get("finished", False), "elapsed_s": round(state.get("elapsed_s", 0.0)),
             "device": state.get("device", "?"), "data": state.get("data")}
 
@@ -50,7 +51,7 @@ def export(checkpoint, output, fp16=True, extra_metadata=None):
             "host": f"{platform.node()} {platform.machine()} torch {torch.__version__}",
             "source_checkpoint": str(checkpoint)}
     if checkpoint.suffix == ".pt":
-        full = torch.load(checkpoint, map_location="cpu")
+        full = load_state(checkpoint)
         meta["config"] = json.dumps(full.get("config", {}), sort_keys=True)
         stages = {name: _stage_summary(run_dir / name / "checkpoint.pt") for name in ("shapes", "joint")}
         meta["stages"] = json.dumps({k: v for k, v in stages.items() if v}, sort_keys=True)

@@ -1,8 +1,7 @@
 """Builds pllvo's PyTorch SuperPoint and moves weights in and out of it.
 
 The architecture comes from training/pllvo_nets/superpoint.py (the nn module, validated against the
-official test vectors) when it is importable, otherwise from the interim stand-in with the same names.
-Training uses their `dense` method: a [B,1,H,W] float image in [0,1] -> (raw detector logits
+official test vectors). Training uses their `dense` method: a [B,1,H,W] float image in [0,1] -> (raw detector logits
 [B,65,H/8,W/8], raw descriptor map [B,256,H/8,W/8]).
 """
 import math
@@ -13,6 +12,7 @@ import torch
 from torch import nn
 
 from superpoint.safetensors_io import read_safetensors
+from superpoint.trainer import load_state
 
 TRAINING_DIR = Path(__file__).resolve().parents[1]
 REPO_ROOT = TRAINING_DIR.parent
@@ -24,10 +24,7 @@ OFFICIAL_NAMES = [f"{layer}.{kind}" for layer in
 def superpoint_class():
     if str(TRAINING_DIR) not in sys.path:
         sys.path.insert(0, str(TRAINING_DIR))
-    try:
-        from pllvo_nets.superpoint import SuperPoint
-    except ImportError:
-        from superpoint._interim_model import SuperPoint
+    from pllvo_nets.superpoint import SuperPoint
     return SuperPoint
 
 
@@ -61,7 +58,7 @@ def read_weights(path):
     if path.suffix == ".safetensors":
         tensors, _ = read_safetensors(path)
     else:
-        tensors = torch.load(path, map_location="cpu")["model"]
+        tensors = load_state(path)["model"]
     return {k: v.float() for k, v in tensors.items()}
 
 

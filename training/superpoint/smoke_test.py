@@ -20,6 +20,7 @@ import cv2
 import numpy as np
 import torch
 
+from pllvo_nets.checks import Checks
 from superpoint import cli, pipeline, synthetic_shapes, train_shapes
 from superpoint.config import build_config
 from superpoint.homographies import HomographyParams, sample_homography, warp_batch, warp_image, warp_points
@@ -29,13 +30,7 @@ from superpoint.losses import correspondences, descriptor_loss, detector_loss
 from superpoint.network import OFFICIAL_NAMES, build_superpoint, read_weights
 from superpoint.safetensors_io import read_safetensors
 
-FAILURES = []
-
-
-def check(condition, message):
-    print(("ok   " if condition else "FAIL ") + message)
-    if not condition:
-        FAILURES.append(message)
+check = Checks()
 
 
 def test_labels():
@@ -174,8 +169,7 @@ def main():
     with tempfile.TemporaryDirectory(prefix="sptrain_smoke_") as tmp:
         test_pipeline(Path(tmp))
         test_resume(Path(tmp))
-    print(f"smoke test: {'FAILED: ' + '; '.join(FAILURES) if FAILURES else 'all checks passed'}")
-    return 1 if FAILURES else 0
+    return check.summary("smoke test")
 
 
 if __name__ == "__main__":

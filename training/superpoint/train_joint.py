@@ -90,7 +90,7 @@ def train(config, out_dir, device, labels_folder, max_minutes=0.0, log=print):
     return trainer.run("joint", STAGE_ID, model, cfg.steps, cfg.lr, pairs.batch, compute_losses, out_dir / "joint",
                        to_json(config), config.seed, cfg.fixed_data, device, config.checkpoint_every,
                        config.log_every, max_minutes, config.workers, extra_state=extra,
-                       validate=JointValidation(pairs, config.seed), log=log)
+                       validate=JointValidation(pairs, config.seed), log=log, stage_minutes=cfg.minutes)
 
 
 def main():

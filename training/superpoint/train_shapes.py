@@ -44,7 +44,7 @@ def train(config, out_dir, device, max_minutes=0.0, log=print):
     return trainer.run("shapes", STAGE_ID, model, cfg.steps, cfg.lr, make_batch, compute_losses, out_dir / "shapes",
                        to_json(config), config.seed, cfg.fixed_data, device, config.checkpoint_every,
                        config.log_every, max_minutes, config.workers, validate=ShapesValidation(cfg, config.seed),
-                       log=log)
+                       log=log, stage_minutes=cfg.minutes)
 
 
 def main():

@@ -12,6 +12,14 @@ import numpy as np
 import torch
 
 
+def load_state(path):
+    """torch.load of our own checkpoints (PyTorch >= 2.6 defaults to weights_only, which rejects them)."""
+    try:
+        return torch.load(path, map_location="cpu", weights_only=False)
+    except TypeError:                       # PyTorch < 1.13 has no weights_only
+        return torch.load(path, map_location="cpu")
+
+
 class Checkpoint:
     def __init__(self, directory):
         self.directory = Path(directory)
@@ -21,7 +29,7 @@ class Checkpoint:
         return self.path.is_file()
 
     def load(self):
-        return torch.load(self.path, map_location="cpu")
+        return load_state(self.path)
 
     def is_finished(self):
         return self.exists() and self.load().get("finished", False)
@@ -64,13 +72,16 @@ def _quiet_worker(_):
 
 
 def run(stage_name, stage_id, model, steps, lr, make_batch, compute_losses, out_dir, config_json, seed, fixed, device,
-        checkpoint_every=100, log_every=10, max_minutes=0.0, workers=0, extra_state=None, validate=None, log=print):
+        checkpoint_every=100, log_every=10, max_minutes=0.0, workers=0, extra_state=None, validate=None, log=print,
+        stage_minutes=0.0):
     """Optimises `model` with Adam for `steps` steps from wherever the checkpoint in out_dir left off.
 
     make_batch(rng) -> CPU tensors (runs in worker processes when workers > 0);
     compute_losses(batch) -> dict of named scalar tensors whose "total" is minimised.
     validate(model) -> dict of progress measures, logged to validation.csv at every checkpoint.
     Returns the list of logged rows (dicts). Stops early, with a checkpoint, when max_minutes is spent.
+    stage_minutes > 0 makes the stage a fixed training time instead of a fixed step count: after that many
+    minutes of training (summed over resumes) the stage ends as finished, whatever `steps` says.
     """
     out_dir = Path(out_dir)
     checkpoint = Checkpoint(out_dir)
@@ -81,7 +92,7 @@ def run(stage_name, stage_id, model, steps, lr, make_batch, compute_losses, out_
         model.load_state_dict(state["model"])
         optimizer.load_state_dict(state["optimizer"])
         step, elapsed = state["step"], state.get("elapsed_s", 0.0)
-        if state.get("finished") and step >= steps:
+        if state.get("finished") and (step >= steps or state.get("time_capped")):
             log(f"[{stage_name}] already finished ({step} steps)")
             return []
         log(f"[{stage_name}] resuming at step {step}/{steps}")
@@ -90,14 +101,14 @@ def run(stage_name, stage_id, model, steps, lr, make_batch, compute_losses, out_
     rows, window, started = [], [], time.time()
     log_path = out_dir / "log.csv"
 
-    def save(finished):
+    def save(finished, time_capped=False):
         if validate is not None:
             row = {"step": step}
             row.update(validate(model))
             _append_csv(out_dir / "validation.csv", row)
             log(f"[{stage_name}] validation " + " ".join(f"{k}={v}" for k, v in row.items()))
         state = {"model": model.state_dict(), "optimizer": optimizer.state_dict(), "step": step,
-                 "elapsed_s": elapsed + time.time() - started, "finished": finished, "stage": stage_name,
+                 "elapsed_s": elapsed + time.time() - started, "finished": finished, "time_capped": time_capped, "stage": stage_name,
                  "config": json.loads(config_json), "device": str(device)}
         state.update(extra_state or {})
         checkpoint.save(state)
@@ -109,7 +120,7 @@ def run(stage_name, stage_id, model, steps, lr, make_batch, compute_losses, out_
         losses["total"].backward()
         optimizer.step()
         step += 1
-        window.append({k: float(v) for k, v in losses.items()})
+        window.append({k: float(v.detach()) if torch.is_tensor(v) else float(v) for k, v in losses.items()})
         if step % log_every == 0 or step == steps:
             row = {"step": step, "time_s": round(elapsed + time.time() - started, 1)}
             row.update({k: round(float(np.mean([w[k] for w in window])), 5) for k in window[0]})
@@ -119,6 +130,10 @@ def run(stage_name, stage_id, model, steps, lr, make_batch, compute_losses, out_
             log(f"[{stage_name}] " + " ".join(f"{k}={v}" for k, v in row.items()))
         if step % checkpoint_every == 0 and step < steps:
             save(False)
+        if stage_minutes and (elapsed + time.time() - started) / 60 > stage_minutes and step < steps:
+            log(f"[{stage_name}] stage time of {stage_minutes} min reached at step {step}: stage finished")
+            save(True, time_capped=True)
+            return rows
         if max_minutes and (time.time() - started) / 60 > max_minutes and step < steps:
             save(False)
             log(f"[{stage_name}] time budget of {max_minutes} min spent at step {step}; rerun to resume")

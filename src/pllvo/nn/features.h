@@ -26,6 +26,10 @@ struct Features {
 struct Matches {
   MatchMatrix pairs;        ///< K x 2 (index0, index1), ascending index0
   Eigen::VectorXf scores;   ///< K match confidences (matcher-specific, higher is better)
+  /// LightGlue's adaptivity on this pair (0 for other matchers): transformer layers run, and the
+  /// share of points pruned before the last layer run.
+  int layers_run = 0;
+  float pruned_share = 0.0f;
 
   int size() const { return static_cast<int>(pairs.rows()); }
 };

@@ -530,8 +530,8 @@ void save_lightglue_result(const LightGlueResult& r, const std::filesystem::path
 
 LightGlue::LightGlue(LightGlueConfig config) : config_(std::move(config)) {
   config_.validate();
-  const auto search = find_weights(config_.weights, kLightGlueWeights);
-  if (!search.found) throw InputError("LightGlue weights " + search.not_found_message(kLightGlueWeights));
+  const auto search = find_weights(config_.weights, lightglue_weight_names());
+  if (!search.found) throw InputError("LightGlue weights " + search.not_found_message());
   weights_file_ = *search.found;
   net_ = std::make_unique<Net>(load_weights_with_overrides(weights_file_, config_.weight_overrides));
 }

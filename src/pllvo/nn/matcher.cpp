@@ -11,7 +11,16 @@ namespace {
 class LightGlueMatcher : public FeatureMatcher {
  public:
   explicit LightGlueMatcher(LightGlue lightglue) : lightglue_(std::move(lightglue)) {}
-  Matches match(const Features& f0, const Features& f1) const override { return lightglue_.match(f0, f1).matches; }
+  Matches match(const Features& f0, const Features& f1) const override {
+    auto result = lightglue_.match(f0, f1);
+    result.matches.layers_run = result.stop;
+    const auto points = result.prune0.size() + result.prune1.size();
+    if (points > 0) {
+      const auto pruned = (result.prune0.array() < result.stop).count() + (result.prune1.array() < result.stop).count();
+      result.matches.pruned_share = static_cast<float>(pruned) / static_cast<float>(points);
+    }
+    return result.matches;
+  }
   std::string name() const override { return "lightglue"; }
 
  private:
@@ -45,12 +54,12 @@ MatcherConfig resolve_matcher(const MatcherConfig& config, std::string* notice) 
   MatcherConfig resolved = config;
   if (config.type == "mnn") return resolved;
   if (config.type != "lightglue") throw InputError("matcher type '" + config.type + "' unknown (lightglue or mnn)");
-  const auto search = find_weights(config.lightglue.weights, kLightGlueWeights);  // throws for a wrong explicit path
+  const auto search = find_weights(config.lightglue.weights, lightglue_weight_names());  // throws for a wrong explicit path
   if (search.found) {
     resolved.lightglue.weights = *search.found;
     return resolved;
   }
-  const std::string message = "LightGlue weights " + search.not_found_message(kLightGlueWeights) +
+  const std::string message = "LightGlue weights " + search.not_found_message() +
                               "; falling back to the mutual-nearest-neighbour matcher (see docs/nn.md for the weights)";
   spdlog::warn("{}", message);
   if (notice) *notice = message;

@@ -10,35 +10,51 @@
 
 namespace pllvo::nn {
 
-std::string WeightSearch::not_found_message(const std::string& file_name) const {
-  std::string s = "'" + file_name + "' not found (looked in:";
+std::vector<std::string> superpoint_weight_names() { return {kSuperPointWeights, kPllvoSuperPointWeights}; }
+std::vector<std::string> lightglue_weight_names() { return {kLightGlueWeights, kPllvoLightGlueWeights}; }
+
+std::string WeightSearch::not_found_message() const {
+  std::string s = "not found (looked in:";
   for (std::size_t i = 0; i < tried.size(); ++i) s += (i ? ", " : " ") + tried[i].string();
   return s + ")";
 }
 
 std::filesystem::path repository_models_dir() { return PLLVO_REPO_MODELS_DIR; }
 
-WeightSearch find_weights(const std::filesystem::path& configured, const std::string& file_name) {
-  namespace fs = std::filesystem;
+namespace {
+
+WeightSearch search_folder(const std::filesystem::path& folder, const std::vector<std::string>& file_names) {
   WeightSearch search;
-  if (!configured.empty()) {
-    const fs::path p = fs::is_directory(configured) ? configured / file_name : configured;
+  for (const auto& name : file_names) {
+    const auto p = folder / name;
     search.tried.push_back(p);
-    if (!fs::is_regular_file(p)) throw InputError(p, "weights file not found (configured path)");
-    search.found = p;
-    return search;
-  }
-  std::vector<fs::path> candidates;
-  if (const char* env = std::getenv("PLLVO_MODELS"); env && *env) candidates.push_back(fs::path(env) / file_name);
-  candidates.push_back(repository_models_dir() / file_name);
-  for (const auto& p : candidates) {
-    search.tried.push_back(p);
-    if (fs::is_regular_file(p)) {
+    if (std::filesystem::is_regular_file(p)) {
       search.found = p;
       break;
     }
   }
   return search;
+}
+
+}  // namespace
+
+WeightSearch find_weights(const std::filesystem::path& configured, const std::vector<std::string>& file_names) {
+  namespace fs = std::filesystem;
+  if (!configured.empty()) {
+    if (fs::is_directory(configured)) {
+      auto search = search_folder(configured, file_names);
+      if (!search.found) throw InputError(configured, "no weights file in this folder (configured path): " +
+                                                          search.not_found_message());
+      return search;
+    }
+    if (!fs::is_regular_file(configured)) throw InputError(configured, "weights file not found (configured path)");
+    WeightSearch search;
+    search.tried.push_back(configured);
+    search.found = configured;
+    return search;
+  }
+  const char* env = std::getenv("PLLVO_MODELS");
+  return search_folder(env && *env ? fs::path(env) : repository_models_dir(), file_names);
 }
 
 }  // namespace pllvo::nn

@@ -174,9 +174,9 @@ struct SuperPoint::Net {
 
 SuperPoint::SuperPoint(SuperPointConfig config) : config_(std::move(config)) {
   config_.validate();
-  const auto search = find_weights(config_.weights, kSuperPointWeights);
+  const auto search = find_weights(config_.weights, superpoint_weight_names());
   if (!search.found)
-    throw InputError("SuperPoint weights " + search.not_found_message(kSuperPointWeights) +
+    throw InputError("SuperPoint weights " + search.not_found_message() +
                      "; there is no fallback for SuperPoint. Set the weights path, or $PLLVO_MODELS, "
                      "or put the file in the repository's models/ (see docs/nn.md)");
   weights_file_ = *search.found;
