@@ -66,8 +66,12 @@ double mean_ms(const nlohmann::json& stats, const std::string& key) {
 void BM_VoSequence(benchmark::State& state, const std::string& frontend) {
   vo::VoConfig config;
   config.frontend.type = frontend;
-  if (frontend == "superpoint")
+  if (frontend == "superpoint") {
+    // The official weights with MNN (docs/vo.md's measurement); pllvo's LightGlue in models/
+    // was trained on pllvo's SuperPoint descriptors, not on these.
     config.frontend.superpoint_weights = shared_path("models/superpoint_v1.safetensors").string();
+    config.mapping.matcher = "mnn";
+  }
   config.run.progress_interval_s = 0;
   const io::Sequence& seq = sequence();
   vo::RunSummary s;

@@ -155,7 +155,7 @@ TEST_F(PipelineSwitches, FrontEnds) {
 
   // auto: LightGlue when its weights are found, else MNN; lightglue by name: no fallback.
   c.mapping.matcher = "lightglue";
-  if (nn::find_weights({}, nn::kLightGlueWeights).found)
+  if (nn::find_weights({}, nn::lightglue_weight_names()).found)
     EXPECT_EQ(run(c)["matcher"].get<std::string>(), "lightglue");
   else
     EXPECT_THROW(run(c), InputError);

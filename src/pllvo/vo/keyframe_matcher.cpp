@@ -112,10 +112,10 @@ std::unique_ptr<KeyframeMatcher> make_keyframe_matcher(const MappingConfig& conf
   mc.mnn.distance_threshold = static_cast<float>(config.mnn_max_distance);
   if (config.matcher == "lightglue") {
     // Asked for by name (an ablation, a benchmark): no silent fallback.
-    const auto search = nn::find_weights(config.lightglue_weights, nn::kLightGlueWeights);
+    const auto search = nn::find_weights(config.lightglue_weights, nn::lightglue_weight_names());
     if (!search.found)
-      throw InputError("mapping.matcher is 'lightglue' but LightGlue weights " +
-                       search.not_found_message(nn::kLightGlueWeights) + "; use 'auto' to fall back to 'mnn'");
+      throw InputError("mapping.matcher is 'lightglue' but LightGlue weights were " + search.not_found_message() +
+                       "; use 'auto' to fall back to 'mnn'");
   }
   std::string notice;  // auto without weights: nn logs the fallback to mutual nearest neighbours
   return std::make_unique<NeuralMatcher>(nn::make_matcher(mc, &notice));

@@ -140,7 +140,7 @@ void SuperPointFrontend::report_matches(int matched, int keypoints) {
 }
 
 std::optional<std::filesystem::path> find_superpoint_weights(const FrontendConfig& config) {
-  return nn::find_weights(config.superpoint_weights, nn::kSuperPointWeights).found;
+  return nn::find_weights(config.superpoint_weights, nn::superpoint_weight_names()).found;
 }
 
 }  // namespace pllvo::vo
