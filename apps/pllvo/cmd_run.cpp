@@ -47,7 +47,7 @@ void run(const RunArgs& a) {
   const auto s = vo::run_sequence(*sequence, config, run_options);
 
   std::printf("%s, %s, %s front end: %zu frames in %.2f s (%.1f frames/s)\n", sequence->format().c_str(),
-              s.stereo ? "stereo" : "mono", config.frontend.type.c_str(), s.frames, s.wall_seconds,
+              s.stereo ? "stereo" : "mono", s.stats["frontend"].get<std::string>().c_str(), s.frames, s.wall_seconds,
               s.frames_per_second);
   std::printf("tracked %zu of %zu frames, %zu keyframes, %d re-initialisations, %zu lost intervals\n",
               s.tracked_frames, s.frames, s.keyframes, s.resets, s.lost.size());
@@ -78,7 +78,7 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--camera", args->camera, "camera YAML for TUM / image folders (default: camera.yaml inside)");
   cmd->add_flag("--mono", args->mono, "use the left camera only, also on stereo datasets");
   cmd->add_option("--frontend", args->frontend, "point front end (overrides the config)")
-      ->check(CLI::IsMember({"superpoint", "orb", "shitomasi"}));
+      ->check(CLI::IsMember({"auto", "superpoint", "orb", "shitomasi"}));
   cmd->add_flag("--single-thread", args->single_thread,
                 "process keyframes inline (deterministic; slower)");
   cmd->add_option("--first", args->first, "first frame index");

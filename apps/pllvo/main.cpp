@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   pllvo::cli::add_synth_command(app);
   pllvo::cli::add_extract_command(app);
   pllvo::cli::add_match_command(app);
+  pllvo::cli::add_demo_command(app);
 
   try {
     app.parse(argc, argv);

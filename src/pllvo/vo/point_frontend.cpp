@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <numeric>
 
+#include <spdlog/spdlog.h>
+
 #include <opencv2/imgproc.hpp>
 
 #include "pllvo/common/error.h"
 #include "pllvo/vo/classical_frontends.h"
+#include "pllvo/vo/superpoint_frontend.h"
 
 namespace pllvo::vo {
 
@@ -71,12 +74,24 @@ cv::Mat equalize_for_detection(const cv::Mat& image) {
   return out;
 }
 
-std::unique_ptr<PointFrontend> make_point_frontend(const FrontendConfig& config) {
+std::string resolve_frontend_type(const FrontendConfig& config, std::string* notice) {
+  if (notice) notice->clear();
+  if (config.type != "auto") return config.type;
+  if (find_superpoint_weights(config)) return "superpoint";
+  const std::string message =
+      "no SuperPoint weights found (frontend.superpoint_weights, $PLLVO_MODELS, models/): running the ORB front end "
+      "instead";
+  spdlog::warn("{}", message);
+  if (notice) *notice = message;
+  return "orb";
+}
+
+std::unique_ptr<PointFrontend> make_point_frontend(const FrontendConfig& requested) {
+  FrontendConfig config = requested;
+  config.type = resolve_frontend_type(requested);
   if (config.type == "orb") return std::make_unique<OrbFrontend>(config);
   if (config.type == "shitomasi") return std::make_unique<ShiTomasiFrontend>(config);
-  if (config.type == "superpoint")
-    throw InputError("frontend 'superpoint' is not available in this build yet (the nn module has not landed); "
-                     "use --frontend orb or shitomasi");
+  if (config.type == "superpoint") return std::make_unique<SuperPointFrontend>(config);
   throw InputError("unknown point front end '" + config.type + "' (superpoint, orb, shitomasi)");
 }
 

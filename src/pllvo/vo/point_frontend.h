@@ -37,10 +37,19 @@ class PointFrontend {
   /// point, up to the configured total. Any image, also a black or flat one, is fine: it just
   /// yields few or no points.
   virtual PointFeatures detect(const cv::Mat& image, const std::vector<cv::Point2f>& tracked = {}) = 0;
+  /// Feedback after the keyframe was matched with the previous one: `matched` of its
+  /// `keypoints` found a partner. Detectors that adapt to it (SuperPoint's threshold) use it.
+  virtual void report_matches(int /*matched*/, int /*keypoints*/) {}
 };
 
-/// The front end named by `config.type`; InputError when it cannot be built (e.g. missing weights).
+/// The front end named by `config.type` ("auto": see resolve_frontend_type); InputError when
+/// it cannot be built (e.g. SuperPoint asked for by name and no weights found).
 std::unique_ptr<PointFrontend> make_point_frontend(const FrontendConfig& config);
+
+/// The front end `config.type` stands for: "auto" is superpoint when SuperPoint weights are
+/// found (frontend.superpoint_weights, then the nn lookup), else orb, with `notice` saying why
+/// (also logged); any other type is itself.
+std::string resolve_frontend_type(const FrontendConfig& config, std::string* notice = nullptr);
 
 /// Keeps the strongest keypoints per grid cell (an even share of `max_points` each, the
 /// leftover filled by the strongest of the rest), so points cover the whole image.

@@ -19,6 +19,7 @@ void read_frontend(const ConfigNode& n, FrontendConfig& c) {
   n.get("superpoint_threshold", c.superpoint_threshold);
   n.get("superpoint_adaptive_threshold", c.superpoint_adaptive_threshold);
   n.get("superpoint_nms_radius", c.superpoint_nms_radius);
+  n.get("superpoint_equalize", c.superpoint_equalize);
   n.get("equalize", c.equalize);
   n.reject_unknown_keys();
 }
@@ -71,7 +72,12 @@ void read_mapping(const ConfigNode& n, MappingConfig& c) {
   n.get("orb_ratio", c.orb_ratio);
   n.get("orb_max_hamming", c.orb_max_hamming);
   n.get("max_anchor_keyframes", c.max_anchor_keyframes);
-  n.get("use_lines", c.use_lines);
+  n.reject_unknown_keys();
+}
+
+void read_pipeline(const ConfigNode& n, PipelineConfig& c) {
+  n.get("lines", c.lines);
+  n.get("line_tracking", c.line_tracking);
   n.reject_unknown_keys();
 }
 
@@ -103,6 +109,7 @@ void VoConfig::read(const ConfigNode& node) {
   read_init(node.child("init"), init);
   read_pose(node.child("pose"), pose);
   read_mapping(node.child("mapping"), mapping);
+  read_pipeline(node.child("pipeline"), pipeline);
   read_run(node.child("run"), run);
   geometry.load(node.child("geometry"));
   backend.load(node.child("backend"));
@@ -112,8 +119,8 @@ void VoConfig::read(const ConfigNode& node) {
 
 void VoConfig::validate(const std::filesystem::path& file) const {
   const auto& f = frontend;
-  require(f.type == "superpoint" || f.type == "orb" || f.type == "shitomasi", file, "frontend.type",
-          "must be superpoint, orb or shitomasi (got '" + f.type + "')");
+  require(f.type == "auto" || f.type == "superpoint" || f.type == "orb" || f.type == "shitomasi", file,
+          "frontend.type", "must be auto, superpoint, orb or shitomasi (got '" + f.type + "')");
   require(f.max_points > 0, file, "frontend.max_points", "must be positive");
   require(f.grid_cols > 0 && f.grid_rows > 0, file, "frontend.grid_cols", "grid must be at least 1x1");
   require(f.superpoint_input_scale > 0 && f.superpoint_input_scale <= 1, file,
@@ -132,6 +139,8 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(init.min_points >= 8, file, "init.min_points", "must be at least 8");
   require(mapping.matcher == "auto" || mapping.matcher == "lightglue" || mapping.matcher == "mnn", file,
           "mapping.matcher", "must be auto, lightglue or mnn");
+  require(pipeline.line_tracking == "flow" || pipeline.line_tracking == "redetect", file,
+          "pipeline.line_tracking", "must be flow or redetect (got '" + pipeline.line_tracking + "')");
   require(mapping.max_anchor_keyframes >= 0, file, "mapping.max_anchor_keyframes", "must not be negative");
   require(klt.min_ncc >= -1 && klt.min_ncc <= 1, file, "klt.min_ncc", "must be in [-1, 1]");
 }
