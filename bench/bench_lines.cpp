@@ -3,7 +3,7 @@
 // constraint) and tracking (pyramid of the new frame + line optical flow), and the three
 // together per frame. Two frame sets:
 //  - synth: 20 pairs of consecutive frames of pllvo's synthetic `medium_normal` sequence,
-//    rendered at start-up: the 20 frames with most lines among frames 0, 15, ..., 585, each with
+//    rendered at start-up: the 20 frames with most lines among frames 0, 5, ..., 595, each with
 //    its real next frame (camera motion, perspective, noise).
 //  - euroc: 20 EuRoC V1_01 frames; the fixture's camera is at rest, so each frame's "next frame"
 //    is the frame moved by a known small rigid motion (0.5 deg about the centre, (3, -2) px): the
@@ -63,7 +63,7 @@ const Frames& euroc_frames() {
   return f;
 }
 
-// The load: frames with 100+ lines. Of 40 candidate frames (every 15th of the 30 s
+// The load: frames with 100+ lines. Of 120 candidate frames (every 5th of the 30 s
 // sequence), the 20 where our detector finds the most lines, each with its real next frame.
 const Frames& synth_frames() {
   static const Frames f = [] {
@@ -71,8 +71,8 @@ const Frames& synth_frames() {
     pllvo::synth::Generator gen(pllvo::synth::preset("medium_normal"));
     LineDetector detector;
     std::vector<std::pair<size_t, size_t>> count_frame;  // (lines, frame), most lines first
-    for (size_t k = 0; k < 2 * kFrames; ++k) {
-      const size_t i = 15 * k;
+    for (size_t k = 0; k < 6 * kFrames; ++k) {
+      const size_t i = 5 * k;
       count_frame.emplace_back(detector.detect(gen.render(i).cameras[0].image).size(), i);
     }
     std::stable_sort(count_frame.begin(), count_frame.end(), [](const auto& a, const auto& b) { return a.first > b.first; });

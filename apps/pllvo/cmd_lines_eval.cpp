@@ -164,7 +164,8 @@ void add_lines_eval_command(CLI::App& app) {
       const auto frames = lines::polygon_suite(lighting, opt->frames);
       const auto c = lines::compare_detectors(frames, config.detector, score);
       std::printf("%s lighting, %d polygon scenes 752x480 (a detection is correct when both endpoints lie within "
-                  "2 px of one true segment; recall = covered share of true segments >= %.0f px)\n",
+                  "2 px of one true segment, and so do points every 5 px between; recall = covered share of true segments "
+                  ">= %.0f px)\n",
                   lighting.c_str(), opt->frames, score.min_truth_length_px);
       print_comparison(c, config);
       if (opt->tracking_frames > 1) {

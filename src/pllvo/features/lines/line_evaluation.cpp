@@ -126,23 +126,21 @@ double SynthTrackingEvaluation::kept_share(int j) const {
 }
 
 namespace {
-double geometric_mean_share(const std::vector<long>& kept, const std::vector<long>& lost_outside) {
-  double log_sum = 0.0;
-  int n = 0;
+// Pooled over the steps: lines kept at the steps / lines entering them.
+double pooled_share(const std::vector<long>& kept, const std::vector<long>& lost_outside) {
+  double in = 0.0, out = 0.0;
   for (size_t j = 1; j < kept.size(); ++j) {
-    const long before = kept[j - 1] - (lost_outside.empty() ? 0 : lost_outside[j] - lost_outside[j - 1]);
-    if (before <= 0 || kept[j] <= 0) continue;
-    log_sum += std::log(std::min(1.0, static_cast<double>(kept[j]) / before));
-    ++n;
+    in += static_cast<double>(kept[j - 1] - (lost_outside.empty() ? 0 : lost_outside[j] - lost_outside[j - 1]));
+    out += static_cast<double>(kept[j]);
   }
-  return n ? std::exp(log_sum / n) : 0.0;
+  return in > 0 ? out / in : 0.0;
 }
 }  // namespace
 
-double SynthTrackingEvaluation::kept_share_per_frame() const { return geometric_mean_share(tracked, {}); }
+double SynthTrackingEvaluation::kept_share_per_frame() const { return pooled_share(tracked, {}); }
 
 double SynthTrackingEvaluation::kept_share_per_frame_in_image() const {
-  return geometric_mean_share(tracked, left_image);
+  return pooled_share(tracked, left_image);
 }
 
 std::vector<double> SynthTrackingEvaluation::all_endpoint_errors() const {

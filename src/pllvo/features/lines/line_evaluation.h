@@ -78,7 +78,7 @@ struct SynthTrackingEvaluation {
 
   /// Share of the lines tracked at step j-1 that are still tracked at step j.
   double kept_share(int j) const;
-  /// Lines kept per step, averaged over the steps: geometric mean of kept_share(1..L).
+  /// Lines kept per step, pooled over the steps: sum of tracked[1..L] / sum of tracked[0..L-1].
   double kept_share_per_frame() const;
   /// Same, not counting lines lost because they left the image.
   double kept_share_per_frame_in_image() const;
