@@ -50,11 +50,6 @@ double parabola_peak(double gm, double g0, double gp) {
   return std::clamp(0.5 * (gm - gp) / den, -0.5, 0.5);
 }
 
-// The edge pixels that support `seg`: pixels of EdgeDrawing's edge map inside a band of
-// half-width `band` around the segment (extended by `band` past its ends), found by walking the
-// segment along its major axis, so the cost is proportional to the segment's length. Each pixel
-// is moved to the gradient peak across the edge, along the image axis closer to the segment's
-// normal (as in Devernay's sub-pixel Canny).
 // Whether the image gradient at (x, y) (3x3 Sobel) is within the angle whose cosine is
 // `min_cos` of the unit normal n (either sign).
 bool gradient_along(const cv::Mat& image, int x, int y, const Eigen::Vector2d& n, double min_cos) {
@@ -67,6 +62,12 @@ bool gradient_along(const cv::Mat& image, int x, int y, const Eigen::Vector2d& n
   return dot >= min_cos * std::sqrt(gx * gx + gy * gy);
 }
 
+// The edge pixels that support `seg`: pixels of EdgeDrawing's edge map inside a band of
+// half-width `band` around the segment (extended by `band` past its ends), found by walking the
+// segment along its major axis, so the cost is proportional to the segment's length. Each pixel
+// is moved to the gradient peak across the edge, along the image axis closer to the segment's
+// normal (as in Devernay's sub-pixel Canny). With max_angle_rad > 0, only pixels whose image
+// gradient is within that angle of the segment's normal count.
 std::vector<Eigen::Vector2d> subpixel_support(const LineSegment& seg, const cv::Mat& edges, const cv::Mat& grad,
                                               const cv::Mat& image, double band, double max_angle_rad,
                                               double* mean_grad) {
