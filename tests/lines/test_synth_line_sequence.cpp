@@ -39,14 +39,14 @@ TEST(SynthLineSequence, PrecisionOnNormalLightBeatsLsd) {
 }
 
 // Lines tracked over consecutive frames stay on the projection of the 3-D points they started on
-// (measured: 73 lines, 0.684 kept per frame, endpoint error median 0.338 px at detection, 0.615
+// (measured: 73 lines, 0.627 kept per frame, endpoint error median 0.338 px at detection, 0.615
 // after one step, 0.737 over the four steps; 0.305 px from the true edge).
 TEST(SynthLineSequence, TrackingFollowsTheProjectedTruth) {
   pllvo::synth::Generator gen(pllvo::synth::preset("medium_normal"));
   const auto seq = render_synth_line_sequence(gen, {100, 101, 102, 103, 104});
   const auto t = evaluate_synth_tracking(seq, {}, {}, {}, 4, visible_truth());
   ASSERT_GE(t.started, 50);
-  EXPECT_GE(t.kept_share_per_frame_in_image(), 0.6);
+  EXPECT_GE(t.kept_share_per_frame_in_image(), 0.5);
   EXPECT_LT(TrackingEvaluation::median(t.endpoint_errors[1]), 1.0);
   EXPECT_LT(TrackingEvaluation::median(t.all_endpoint_errors()), 1.2);
   EXPECT_LT(TrackingEvaluation::median(t.normal_errors), 0.6);
