@@ -1,10 +1,14 @@
-// Line front end speed on EuRoC frames (752x480), one core, side by side with OpenCV's LSD:
-// detection (prefilter + EDLines + sub-pixel refit + merge), filtering (cross constraint) and
-// tracking (pyramid of the new frame + line optical flow), and the three together per frame.
-// The fixture's camera is at rest, so each frame's "next frame" is the frame moved by a known
-// small rigid motion (0.5 deg about the centre, (3, -2) px): the tracker does real work and its
-// endpoint error against that motion is printed too.
-// Run: build/bin/bench_lines   (prints the ratio LSD / (detect + filter + track) at the end)
+// Line front end speed on 752x480 frames, one core, side by side with OpenCV's LSD on the same
+// frames: detection (prefilter + EDLines + sub-pixel refit + merge), filtering (cross
+// constraint) and tracking (pyramid of the new frame + line optical flow), and the three
+// together per frame. Two frame sets:
+//  - synth: 20 pairs of consecutive frames of pllvo's synthetic `medium_normal` sequence,
+//    rendered at start-up: the 20 frames with most lines among frames 0, 5, ..., 595, each with
+//    its real next frame (camera motion, perspective, noise).
+//  - euroc: 20 EuRoC V1_01 frames; the fixture's camera is at rest, so each frame's "next frame"
+//    is the frame moved by a known small rigid motion (0.5 deg about the centre, (3, -2) px): the
+//    tracker does real work and its endpoint error against that motion is printed too.
+// Run: taskset -c 0 build/bin/bench_lines   (prints the ratios LSD / (detect + filter + track))
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -22,11 +26,12 @@
 #include "pllvo/features/lines/cross_constraint.h"
 #include "pllvo/features/lines/line_detector.h"
 #include "pllvo/features/lines/line_tracker.h"
+#include "pllvo/synth/generator.h"
 
 namespace {
 using namespace pllvo::lines;
 
-constexpr int kFrames = 20;
+constexpr size_t kFrames = 20;
 constexpr double kAngleDeg = 0.5, kShiftX = 3.0, kShiftY = -2.0;
 
 struct Frames {
@@ -34,7 +39,7 @@ struct Frames {
   cv::Mat motion;  // 2x3 affine from a frame to its "next"
 };
 
-const Frames& frames() {
+const Frames& euroc_frames() {
   static const Frames f = [] {
     Frames out;
     const auto dir = pllvo::shared_path("data/euroc_V1_01_easy_micro/mav0/cam0/data");
@@ -58,14 +63,40 @@ const Frames& frames() {
   return f;
 }
 
+// The load: frames with 100+ lines. Of 120 candidate frames (every 5th of the 30 s
+// sequence), the 20 where our detector finds the most lines, each with its real next frame.
+const Frames& synth_frames() {
+  static const Frames f = [] {
+    Frames out;
+    pllvo::synth::Generator gen(pllvo::synth::preset("medium_normal"));
+    LineDetector detector;
+    std::vector<std::pair<size_t, size_t>> count_frame;  // (lines, frame), most lines first
+    for (size_t k = 0; k < 6 * kFrames; ++k) {
+      const size_t i = 5 * k;
+      count_frame.emplace_back(detector.detect(gen.render(i).cameras[0].image).size(), i);
+    }
+    std::stable_sort(count_frame.begin(), count_frame.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    count_frame.resize(kFrames);
+    std::sort(count_frame.begin(), count_frame.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+    for (const auto& [lines, i] : count_frame) {
+      out.now.push_back(gen.render(i).cameras[0].image.clone());
+      out.next.push_back(gen.render(i + 1).cameras[0].image.clone());
+    }
+    return out;
+  }();
+  return f;
+}
+
+using FrameSource = const Frames& (*)();
+
 std::vector<LineSegment> to_segments(const std::vector<cv::Vec4f>& v) {
   std::vector<LineSegment> out;
   for (const auto& r : v) out.emplace_back(Eigen::Vector2d(r[0], r[1]), Eigen::Vector2d(r[2], r[3]));
   return out;
 }
 
-void BM_LsdDetect(benchmark::State& state) {
-  const auto& f = frames();
+void BM_LsdDetect(benchmark::State& state, FrameSource source) {
+  const auto& f = source();
   auto lsd = cv::createLineSegmentDetector();
   size_t i = 0, lines = 0, n = 0;
   for (auto _ : state) {
@@ -77,8 +108,8 @@ void BM_LsdDetect(benchmark::State& state) {
   state.counters["lines"] = static_cast<double>(lines) / n;
 }
 
-void BM_EdgeDrawingPlain(benchmark::State& state) {
-  const auto& f = frames();
+void BM_EdgeDrawingPlain(benchmark::State& state, FrameSource source) {
+  const auto& f = source();
   size_t i = 0, lines = 0, n = 0;
   for (auto _ : state) {
     lines += detect_edlines_plain(f.now[i], EdgeDrawingConfig::opencv_defaults()).size(), ++n;
@@ -87,8 +118,8 @@ void BM_EdgeDrawingPlain(benchmark::State& state) {
   state.counters["lines"] = static_cast<double>(lines) / n;
 }
 
-void BM_Detect(benchmark::State& state) {
-  const auto& f = frames();
+void BM_Detect(benchmark::State& state, FrameSource source) {
+  const auto& f = source();
   LineDetector detector;
   size_t i = 0, lines = 0, n = 0;
   for (auto _ : state) {
@@ -98,8 +129,8 @@ void BM_Detect(benchmark::State& state) {
   state.counters["lines"] = static_cast<double>(lines) / n;
 }
 
-void BM_CrossConstraint(benchmark::State& state) {
-  const auto& f = frames();
+void BM_CrossConstraint(benchmark::State& state, FrameSource source) {
+  const auto& f = source();
   LineDetector detector;
   std::vector<std::vector<LineSegment>> detected;
   for (const auto& im : f.now) detected.push_back(detector.detect(im));
@@ -111,8 +142,8 @@ void BM_CrossConstraint(benchmark::State& state) {
   state.counters["kept"] = static_cast<double>(kept) / n;
 }
 
-void BM_Track(benchmark::State& state) {
-  const auto& f = frames();
+void BM_Track(benchmark::State& state, FrameSource source) {
+  const auto& f = source();
   LineDetector detector;
   LineTracker tracker;
   std::vector<std::vector<LineSegment>> lines;
@@ -133,8 +164,8 @@ void BM_Track(benchmark::State& state) {
 }
 
 // Per frame: detect, filter, build the new frame's pyramid, track into it.
-void BM_DetectFilterTrack(benchmark::State& state) {
-  const auto& f = frames();
+void BM_DetectFilterTrack(benchmark::State& state, FrameSource source) {
+  const auto& f = source();
   LineDetector detector;
   LineTracker tracker;
   std::vector<OpticalFlowPyramid> prev;
@@ -151,12 +182,18 @@ void BM_DetectFilterTrack(benchmark::State& state) {
   state.counters["tracked"] = static_cast<double>(out) / n;
 }
 
-BENCHMARK(BM_LsdDetect)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
-BENCHMARK(BM_EdgeDrawingPlain)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
-BENCHMARK(BM_Detect)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
-BENCHMARK(BM_CrossConstraint)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
-BENCHMARK(BM_Track)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
-BENCHMARK(BM_DetectFilterTrack)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK_CAPTURE(BM_LsdDetect, synth, &synth_frames)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK_CAPTURE(BM_EdgeDrawingPlain, synth, &synth_frames)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK_CAPTURE(BM_Detect, synth, &synth_frames)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK_CAPTURE(BM_CrossConstraint, synth, &synth_frames)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK_CAPTURE(BM_Track, synth, &synth_frames)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK_CAPTURE(BM_DetectFilterTrack, synth, &synth_frames)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK_CAPTURE(BM_LsdDetect, euroc, &euroc_frames)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK_CAPTURE(BM_EdgeDrawingPlain, euroc, &euroc_frames)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK_CAPTURE(BM_Detect, euroc, &euroc_frames)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK_CAPTURE(BM_CrossConstraint, euroc, &euroc_frames)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK_CAPTURE(BM_Track, euroc, &euroc_frames)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK_CAPTURE(BM_DetectFilterTrack, euroc, &euroc_frames)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
 
 // Remembers the median times so main() can print the ratios measured in this run.
 class RatioReporter : public benchmark::ConsoleReporter {
@@ -172,7 +209,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
 
 // Endpoint error of the tracked lines against the known motion (accuracy next to the speed).
 void print_tracking_accuracy() {
-  const auto& f = frames();
+  const auto& f = euroc_frames();
   LineDetector detector;
   LineTracker tracker;
   const cv::Mat& M = f.motion;
@@ -210,17 +247,19 @@ int main(int argc, char** argv) {
   benchmark::RunSpecifiedBenchmarks(&reporter);
   benchmark::Shutdown();
   const auto& t = reporter.times;
-  if (t.count("BM_LsdDetect") && t.count("BM_DetectFilterTrack")) {
-    const auto [lsd_real, lsd_cpu] = t.at("BM_LsdDetect");
-    const auto [all_real, all_cpu] = t.at("BM_DetectFilterTrack");
-    std::printf("\nLSD detection / (detection + filtering + tracking), medians of this run: "
-                "%.2fx (CPU time %.2f / %.2f ms), %.2fx (wall time %.2f / %.2f ms)\n",
-                lsd_cpu / all_cpu, lsd_cpu, all_cpu, lsd_real / all_real, lsd_real, all_real);
+  for (const std::string set : {"synth", "euroc"}) {
+    const std::string lsd = "BM_LsdDetect/" + set, all = "BM_DetectFilterTrack/" + set, det = "BM_Detect/" + set;
+    if (t.count(lsd) && t.count(all)) {
+      const auto [lsd_real, lsd_cpu] = t.at(lsd);
+      const auto [all_real, all_cpu] = t.at(all);
+      std::printf("\n%s: LSD detection / (detection + filtering + tracking), medians of this run: "
+                  "%.2fx (CPU time %.2f / %.2f ms), %.2fx (wall time %.2f / %.2f ms)\n",
+                  set.c_str(), lsd_cpu / all_cpu, lsd_cpu, all_cpu, lsd_real / all_real, lsd_real, all_real);
+    }
+    if (t.count(lsd) && t.count(det))
+      std::printf("%s: LSD detection / our detection alone: %.2fx (CPU time)\n", set.c_str(),
+                  t.at(lsd).second / t.at(det).second);
   }
-  if (t.count("BM_LsdDetect") && t.count("BM_Detect")) {
-    std::printf("LSD detection / our detection alone: %.2fx (CPU time)\n",
-                t.at("BM_LsdDetect").second / t.at("BM_Detect").second);
-  }
-  print_tracking_accuracy();
+  if (t.count("BM_Track/euroc")) print_tracking_accuracy();
   return 0;
 }

@@ -13,13 +13,63 @@
 #include "pllvo/features/lines/line_evaluation.h"
 #include "pllvo/features/lines/lines_config.h"
 #include "pllvo/features/lines/polygon_scene.h"
+#include "pllvo/features/lines/synth_line_sequence.h"
 
 namespace pllvo::cli {
 
 namespace {
 void print_score(const char* name, const lines::DetectionScore& s) {
-  std::printf("  %-22s %8ld %10.3f %8.3f %12.3f %14.3f\n", name, s.detections, s.precision(), s.recall(),
-              s.mean_normal_error(), s.median_endpoint_error());
+  std::printf("  %-22s %8ld %9.1f %10.3f %8.3f %12.3f %14.3f\n", name, s.detections, s.lines_per_frame(),
+              s.precision(), s.recall(), s.mean_normal_error(), s.median_endpoint_error());
+}
+
+void print_comparison(const lines::DetectorComparison& c, const lines::LinesConfig& config) {
+  std::printf("  %-22s %8s %9s %10s %8s %12s %14s\n", "detector", "lines", "per_frame", "precision", "recall",
+              "normal_err_px", "endpoint_err_px");
+  print_score("pllvo LineDetector", c.ours);
+  print_score("EdgeDrawing (OpenCV)", c.edlines);
+  print_score("LSD (OpenCV)", c.lsd);
+  const std::string lsd_len = "LSD >= " + std::to_string(static_cast<int>(config.detector.min_length_px)) + " px";
+  print_score(lsd_len.c_str(), c.lsd_min_length);
+}
+
+// Detection and tracking scores on one `pllvo synth --lines` output folder.
+void evaluate_synth_folder(const std::string& dir, const lines::LinesConfig& config,
+                           const lines::DetectionScoreConfig& score, const lines::SynthFrameSelection& detection,
+                           const lines::SynthFrameSelection& tracking, int chain) {
+  const auto det_seq = lines::load_synth_line_sequence(dir, detection);
+  long visible = 0, total = 0;
+  for (const auto& f : det_seq.frames)
+    for (size_t i = 0; i < f.truth.size(); ++i) {
+      ++total;
+      visible += f.contrast[i] >= score.min_truth_contrast;
+    }
+  std::printf("%s: %zu frames (every %zu from %zu); %.1f true pieces per frame, %.1f with contrast >= %.0f DN "
+              "(recall counts those on edges >= %.0f px)\n",
+              dir.c_str(), det_seq.frames.size(), detection.step, detection.first,
+              static_cast<double>(total) / det_seq.frames.size(), static_cast<double>(visible) / det_seq.frames.size(),
+              score.min_truth_contrast, score.min_truth_length_px);
+  print_comparison(lines::compare_detectors(det_seq.frames, config.detector, score), config);
+  if (chain < 1) return;
+  const auto trk_seq = lines::load_synth_line_sequence(dir, tracking);
+  const auto t =
+      lines::evaluate_synth_tracking(trk_seq, config.detector, config.cross_constraint, config.tracker, chain, score);
+  const auto all = t.all_endpoint_errors();
+  std::printf("  tracking: %zu frames, chains of %d steps: %ld lines detected at chain starts, %ld on true edges "
+              "followed; kept per frame %.3f (%.3f not counting lines leaving the image); after 1 step %.3f, after "
+              "%d steps %.3f of the followed\n",
+              trk_seq.frames.size(), chain, t.detected, t.started, t.kept_share_per_frame(),
+              t.kept_share_per_frame_in_image(), t.kept_share(1), chain,
+              t.started ? static_cast<double>(t.tracked.back()) / t.started : 0.0);
+  std::printf("  endpoint error vs projected truth, median (px): at detection %.3f; tracked, all steps %.3f (%zu "
+              "endpoints)",
+              lines::TrackingEvaluation::median(t.endpoint_errors[0]), lines::TrackingEvaluation::median(all),
+              all.size());
+  for (int j = 1; j <= chain; j *= 2)
+    std::printf(", step %d %.3f", j, lines::TrackingEvaluation::median(t.endpoint_errors[j]));
+  if ((chain & (chain - 1)) != 0)
+    std::printf(", step %d %.3f", chain, lines::TrackingEvaluation::median(t.endpoint_errors[chain]));
+  std::printf("; distance to the true edge median %.3f px\n", lines::TrackingEvaluation::median(t.normal_errors));
 }
 
 std::vector<std::string> split(const std::string& list) {
@@ -40,6 +90,10 @@ void add_lines_eval_command(CLI::App& app) {
     int frames = 10;
     int tracking_frames = 20;
     std::vector<std::string> images;
+    std::vector<std::string> synth;
+    size_t first = 0, count = 0, step = 1;
+    int chain = 10;
+    double min_contrast = 10.0;
   };
   auto opt = std::make_shared<Options>();
   cmd->add_option("--config", opt->config, "lines YAML (default: built-in defaults, as config/lines.yaml)");
@@ -53,6 +107,22 @@ void add_lines_eval_command(CLI::App& app) {
   cmd->add_option("--images", opt->images,
                   "real images (no ground truth): print the prefilter decision and line counts per detector "
                   "instead of scoring the synthetic suites");
+  cmd->add_option("--synth", opt->synth,
+                  "`pllvo synth --lines` output folders: score detection and tracking on them instead of the "
+                  "polygon scenes");
+  cmd->add_option("--first", opt->first, "--synth: first frame")->capture_default_str();
+  cmd->add_option("--count", opt->count, "--synth: frames scored for detection (0: all)")->capture_default_str();
+  cmd->add_option("--step", opt->step, "--synth: take every step-th frame for detection")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--chain", opt->chain,
+                  "--synth: tracking re-detects every `chain` frames and tracks in between (0: no tracking)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--min-contrast", opt->min_contrast,
+                  "--synth: true segments with less contrast (DN, noise-free image) are not counted for recall")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd->callback([opt] {
     lines::LinesConfig config;
     if (!opt->config.empty()) config = lines::load_lines_config(opt->config);
@@ -81,19 +151,23 @@ void add_lines_eval_command(CLI::App& app) {
     }
     lines::DetectionScoreConfig score;
     score.min_truth_length_px = config.detector.min_length_px;
+    if (!opt->synth.empty()) {
+      score.min_truth_contrast = opt->min_contrast;
+      const lines::SynthFrameSelection detection{opt->first, opt->count, opt->step};
+      // Tracking needs consecutive frames: the same span, every frame.
+      const size_t span = opt->count ? (opt->count - 1) * opt->step + 1 : 0;
+      const lines::SynthFrameSelection tracking{opt->first, span, 1};
+      for (const auto& dir : opt->synth) evaluate_synth_folder(dir, config, score, detection, tracking, opt->chain);
+      return;
+    }
     for (const auto& lighting : split(opt->lighting)) {
       const auto frames = lines::polygon_suite(lighting, opt->frames);
       const auto c = lines::compare_detectors(frames, config.detector, score);
       std::printf("%s lighting, %d polygon scenes 752x480 (a detection is correct when both endpoints lie within "
-                  "2 px of one true segment; recall = covered share of true segments >= %.0f px)\n",
+                  "2 px of one true segment, and so do points every 5 px between; recall = covered share of true segments "
+                  ">= %.0f px)\n",
                   lighting.c_str(), opt->frames, score.min_truth_length_px);
-      std::printf("  %-22s %8s %10s %8s %12s %14s\n", "detector", "lines", "precision", "recall", "normal_err_px",
-                  "endpoint_err_px");
-      print_score("pllvo LineDetector", c.ours);
-      print_score("EdgeDrawing (OpenCV)", c.edlines);
-      print_score("LSD (OpenCV)", c.lsd);
-      const std::string lsd_len = "LSD >= " + std::to_string(static_cast<int>(config.detector.min_length_px)) + " px";
-      print_score(lsd_len.c_str(), c.lsd_min_length);
+      print_comparison(c, config);
       if (opt->tracking_frames > 1) {
         const auto seq = lines::polygon_tracking_sequence(lighting, opt->tracking_frames);
         const auto t = lines::evaluate_tracking(seq.frames, config.detector, config.cross_constraint, config.tracker,

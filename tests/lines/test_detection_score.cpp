@@ -35,3 +35,38 @@ TEST(DetectionScore, PrecisionRecallAndErrors) {
   long_only.min_truth_length_px = 150;
   EXPECT_EQ(score_line_detections(detected, truth, long_only).truth_length, 0.0);
 }
+
+// A straight detection along a chain of collinear true segments (one 3-D edge cut into pieces,
+// continued by another edge) is correct; recall counts only visible truth (contrast, edge length).
+TEST(DetectionScore, ChainsOfTruthPiecesAndVisibility) {
+  TruthFrame frame;
+  frame.truth = {LineSegment(V(0, 0), V(50, 0), 0), LineSegment(V(50, 0), V(100, 0.5), 0),
+                 LineSegment(V(100, 0.5), V(150, 1), 1), LineSegment(V(0, 40), V(100, 40), 2)};
+  frame.contrast = {10, 10, 10, 3};
+  const std::vector<LineSegment> detected = {
+      LineSegment(V(1, 0), V(149, 1)),       // along the chain: correct
+      LineSegment(V(0, 40.5), V(100, 40.5)),  // on a faint edge: correct (precision counts all truth)
+      LineSegment(V(100, 0.5), V(170, 1.2)),  // runs 20 px past the end of the chain: wrong
+      LineSegment(V(0, 20), V(60, 20)),       // nowhere: wrong
+  };
+  DetectionScoreConfig config;
+  config.min_truth_contrast = 5;
+  const DetectionScore s = score_line_detections(detected, frame, config);
+  EXPECT_EQ(s.correct, 2);
+  EXPECT_DOUBLE_EQ(s.precision(), 0.5);
+  // Visible: the three chain pieces (~150 px); covered [1, 149] of them.
+  EXPECT_NEAR(s.truth_length, 150.0, 0.01);
+  EXPECT_NEAR(s.recall(), 148.0 / 150.0, 0.01);
+  // Endpoint errors only for the detection covering one whole edge (the faint one).
+  ASSERT_EQ(s.endpoint_errors.size(), 2u);
+  EXPECT_NEAR(s.endpoint_errors[0], 0.5, 1e-9);
+  const TruthMatch m = match_detection(detected[0], frame.truth, config);
+  EXPECT_TRUE(m.correct);
+  EXPECT_EQ(frame.truth[m.start_piece].id, 0);
+  EXPECT_EQ(frame.truth[m.end_piece].id, 1);
+  // Edge length counts per 3-D edge: with 60 px required, edge 1 (50 px) is not asked for.
+  config.min_truth_length_px = 60;
+  const DetectionScore long_only = score_line_detections(detected, frame, config);
+  EXPECT_NEAR(long_only.truth_length, 100.0, 0.01);
+  EXPECT_NEAR(long_only.recall(), 99.0 / 100.0, 0.01);
+}

@@ -204,3 +204,27 @@ TEST(LineTracker, FollowsTrueEdgesOverASequence) {
   EXPECT_LT(TrackingEvaluation::median(ev.normal_errors), 0.3);
   EXPECT_LT(TrackingEvaluation::median(ev.endpoint_errors), 0.5);
 }
+
+// A global brightness change between the frames (flicker, exposure) breaks LK's constant
+// brightness assumption; the pyramids' mean normalisation undoes it, without touching the input.
+TEST(LineTracker, TracksThroughAGlobalBrightnessChange) {
+  const auto scene = polygon_suite("normal", 1).front();
+  const cv::Mat M = (cv::Mat_<double>(2, 3) << 1, 0, 2.5, 0, 1, -1.5);
+  cv::Mat moved;
+  cv::warpAffine(scene.image, moved, M, scene.image.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
+  moved.convertTo(moved, CV_8U, 0.6);
+  const cv::Mat moved_copy = moved.clone();
+  const auto lines = apply_cross_constraint(LineDetector().detect(scene.image), {});
+  ASSERT_GE(lines.size(), 30u);
+  LineTrackerConfig on;
+  on.normalized_mean = 80;
+  const LineTracker normalised(on);
+  const auto tracks = normalised.track(normalised.make_pyramid(scene.image), normalised.make_pyramid(moved), lines);
+  EXPECT_EQ(tracked_lines(tracks).size(), lines.size());
+  for (size_t i = 0; i < lines.size(); ++i)
+    if (!tracks[i].clipped) EXPECT_LT((tracks[i].line.start - (lines[i].start + V(2.5, -1.5))).norm(), 0.5);
+  EXPECT_EQ(cv::norm(moved, moved_copy, cv::NORM_INF), 0.0);
+  const LineTracker raw;  // default: no normalisation
+  EXPECT_LT(tracked_lines(raw.track(raw.make_pyramid(scene.image), raw.make_pyramid(moved), lines)).size(),
+            lines.size() / 4);
+}

@@ -21,6 +21,8 @@ TEST(LinesConfig, DefaultFileMatchesTheDefaultsInCode) {
   const LinesConfig code;
   EXPECT_EQ(file.detector.min_length_px, code.detector.min_length_px);
   EXPECT_EQ(file.detector.min_gradient_ratio, code.detector.min_gradient_ratio);
+  EXPECT_EQ(file.detector.support_max_angle_deg, code.detector.support_max_angle_deg);
+  EXPECT_EQ(file.tracker.normalized_mean, code.tracker.normalized_mean);
   EXPECT_EQ(file.detector.edge_drawing.nfa_validation, code.detector.edge_drawing.nfa_validation);
   EXPECT_EQ(file.detector.edge_drawing.gradient_threshold, code.detector.edge_drawing.gradient_threshold);
   EXPECT_EQ(file.detector.prefilter.dark_level, code.detector.prefilter.dark_level);

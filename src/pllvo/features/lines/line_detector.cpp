@@ -50,15 +50,31 @@ double parabola_peak(double gm, double g0, double gp) {
   return std::clamp(0.5 * (gm - gp) / den, -0.5, 0.5);
 }
 
+// Whether the image gradient at (x, y) (3x3 Sobel) is within the angle whose cosine is
+// `min_cos` of the unit normal n (either sign).
+bool gradient_along(const cv::Mat& image, int x, int y, const Eigen::Vector2d& n, double min_cos) {
+  const uchar* r0 = image.ptr<uchar>(y - 1) + x;
+  const uchar* r1 = image.ptr<uchar>(y) + x;
+  const uchar* r2 = image.ptr<uchar>(y + 1) + x;
+  const double gx = (r0[1] + 2.0 * r1[1] + r2[1]) - (r0[-1] + 2.0 * r1[-1] + r2[-1]);
+  const double gy = (r2[-1] + 2.0 * r2[0] + r2[1]) - (r0[-1] + 2.0 * r0[0] + r0[1]);
+  const double dot = std::abs(gx * n.x() + gy * n.y());
+  return dot >= min_cos * std::sqrt(gx * gx + gy * gy);
+}
+
 // The edge pixels that support `seg`: pixels of EdgeDrawing's edge map inside a band of
 // half-width `band` around the segment (extended by `band` past its ends), found by walking the
 // segment along its major axis, so the cost is proportional to the segment's length. Each pixel
 // is moved to the gradient peak across the edge, along the image axis closer to the segment's
-// normal (as in Devernay's sub-pixel Canny).
+// normal (as in Devernay's sub-pixel Canny). With max_angle_rad > 0, only pixels whose image
+// gradient is within that angle of the segment's normal count.
 std::vector<Eigen::Vector2d> subpixel_support(const LineSegment& seg, const cv::Mat& edges, const cv::Mat& grad,
-                                              double band, double* mean_grad) {
+                                              const cv::Mat& image, double band, double max_angle_rad,
+                                              double* mean_grad) {
   std::vector<Eigen::Vector2d> pts;
   const Eigen::Vector2d d = seg.end - seg.start;
+  const Eigen::Vector2d normal = seg.normal();
+  const double min_cos = max_angle_rad > 0 ? std::cos(max_angle_rad) : -1.0;
   const bool along_x = std::abs(d.x()) >= std::abs(d.y());
   // Parametrise the segment by its major coordinate m: minor = a + b m.
   const double m0 = along_x ? seg.start.x() : seg.start.y(), m1 = along_x ? seg.end.x() : seg.end.y();
@@ -78,6 +94,7 @@ std::vector<Eigen::Vector2d> subpixel_support(const LineSegment& seg, const cv::
     for (int n = nlo; n <= nhi; ++n) {
       const int x = along_x ? m : n, y = along_x ? n : m;
       if (!edges.ptr<uchar>(y)[x]) continue;
+      if (min_cos > -1.0 && !gradient_along(image, x, y, normal, min_cos)) continue;
       const ushort* row = grad.ptr<ushort>(y);
       const double g0 = row[x];
       gsum += g0;
@@ -154,6 +171,7 @@ void LineDetectorConfig::load(const ConfigNode& node) {
   edge_drawing.load(node.child("edge_drawing"));
   node.get("subpixel_refinement", subpixel_refinement);
   node.get("support_distance_px", support_distance_px);
+  node.get("support_max_angle_deg", support_max_angle_deg);
   node.get("merge_collinear", merge_collinear);
   node.get("merge_max_angle_deg", merge_max_angle_deg);
   node.get("merge_max_distance_px", merge_max_distance_px);
@@ -208,7 +226,8 @@ std::vector<LineSegment> LineDetector::detect(const cv::Mat& gray) {
     for (const auto& p : pieces) {
       if (p.segment.length() < min_before) continue;
       double mean_grad = 0.0;
-      auto support = subpixel_support(p.segment, edges, grad, config_.support_distance_px, &mean_grad);
+      auto support = subpixel_support(p.segment, edges, grad, pre.image, config_.support_distance_px,
+                                      config_.support_max_angle_deg * M_PI / 180.0, &mean_grad);
       SupportedSegment refined = refine(p.segment, support, config_.support_distance_px);
       if (refined.segment.length() < config_.min_length_px || mean_grad < min_response) continue;
       refined.segment.response = mean_grad / pre.gain;

@@ -54,6 +54,11 @@ struct LineDetectorConfig {
   bool subpixel_refinement = true;
   /// Edge pixels farther than this from a segment (px) do not support it in the refinement.
   double support_distance_px = 1.5;
+  /// ...and edge pixels whose image gradient (3x3 Sobel) points more than this angle away from
+  /// the segment's normal do not support it either: at a corner or a junction the edge map
+  /// turns onto the other edge, whose pixels inside the band would otherwise stretch the
+  /// segment past the corner (0 = no direction check).
+  double support_max_angle_deg = 45.0;
   /// Collinear pieces are merged when their directions differ by at most this angle...
   bool merge_collinear = true;
   double merge_max_angle_deg = 2.0;

@@ -12,6 +12,7 @@
 #include "pllvo/features/lines/detection_score.h"
 #include "pllvo/features/lines/line_detector.h"
 #include "pllvo/features/lines/line_tracker.h"
+#include "pllvo/features/lines/synth_line_sequence.h"
 
 namespace pllvo::lines {
 
@@ -53,5 +54,39 @@ TrackingEvaluation evaluate_tracking(const std::vector<TruthFrame>& frames, cons
                                      const CrossConstraintConfig& cross, const LineTrackerConfig& tracker,
                                      const std::vector<Eigen::Isometry2d>* motions = nullptr,
                                      double tolerance_px = 2.0);
+
+/// Tracking on a synthetic sequence against the projected truth. Lines are detected (cross
+/// constraint applied) at frames 0, L, 2L, ... and each set is tracked frame to frame for L
+/// steps (L = `chain_length`, like re-detection at keyframes); only lines that start on a true
+/// edge (the detection criterion of detection_score.h) are followed. Each endpoint is tied to
+/// the point of its 3-D edge seen there at the start, and that point's projection is where the
+/// tracked endpoint should be later.
+struct SynthTrackingEvaluation {
+  int chain_length = 0;
+  long detected = 0;  ///< lines detected at the chain starts (after the cross constraint)
+  long started = 0;   ///< of which on a true edge: the lines followed
+  /// Index j = after j steps (index 0 = started): lines still tracked, and lines lost because
+  /// they left the image (the tracker's out-of-image status), cumulative.
+  std::vector<long> tracked, left_image;
+  /// Index j: |tracked endpoint - projected truth| after j steps (px), for lines never clipped
+  /// at the border whose true endpoint is in front of the camera and inside the image. Index 0:
+  /// the detected endpoints themselves (their distance to the true edge: the starting error).
+  std::vector<std::vector<double>> endpoint_errors;
+  /// Distance of tracked endpoints to the true edge (nearest piece with the same id) in the
+  /// frame, all steps: drift off the edge.
+  std::vector<double> normal_errors;
+
+  /// Share of the lines tracked at step j-1 that are still tracked at step j.
+  double kept_share(int j) const;
+  /// Lines kept per step, pooled over the steps: sum of tracked[1..L] / sum of tracked[0..L-1].
+  double kept_share_per_frame() const;
+  /// Same, not counting lines lost because they left the image.
+  double kept_share_per_frame_in_image() const;
+  std::vector<double> all_endpoint_errors() const;  ///< steps 1..L
+};
+
+SynthTrackingEvaluation evaluate_synth_tracking(const SynthLineSequence& seq, const LineDetectorConfig& detector,
+                                                const CrossConstraintConfig& cross, const LineTrackerConfig& tracker,
+                                                int chain_length, const DetectionScoreConfig& score = {});
 
 }  // namespace pllvo::lines

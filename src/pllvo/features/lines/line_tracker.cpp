@@ -15,6 +15,7 @@ void LineTrackerConfig::load(const ConfigNode& node) {
   node.get("max_iterations", max_iterations);
   node.get("epsilon_px", epsilon_px);
   node.get("min_eigen_threshold", min_eigen_threshold);
+  node.get("normalized_mean", normalized_mean);
   node.get("sample_spacing_px", sample_spacing_px);
   node.get("min_samples", min_samples);
   node.get("max_samples", max_samples);
@@ -28,6 +29,8 @@ void LineTrackerConfig::load(const ConfigNode& node) {
   node.reject_unknown_keys();
   if (window_px < 3) throw InputError(node.file(), node.path("window_px"), "must be >= 3");
   if (max_pyramid_level < 0) throw InputError(node.file(), node.path("max_pyramid_level"), "must be >= 0");
+  if (normalized_mean < 0.0 || normalized_mean > 255.0)
+    throw InputError(node.file(), node.path("normalized_mean"), "must be in [0, 255] (0 = off)");
   if (sample_spacing_px <= 0.0) throw InputError(node.file(), node.path("sample_spacing_px"), "must be > 0");
   if (min_samples < 2 || max_samples < min_samples)
     throw InputError(node.file(), node.path("min_samples"), "need 2 <= min_samples <= max_samples");
@@ -51,7 +54,8 @@ const char* to_string(TrackStatus s) {
 LineTracker::LineTracker(LineTrackerConfig config) : config_(std::move(config)) {}
 
 OpticalFlowPyramid LineTracker::make_pyramid(const cv::Mat& gray) const {
-  return OpticalFlowPyramid(gray, cv::Size(config_.window_px, config_.window_px), config_.max_pyramid_level);
+  return OpticalFlowPyramid(gray, cv::Size(config_.window_px, config_.window_px), config_.max_pyramid_level,
+                            config_.normalized_mean);
 }
 
 std::vector<Eigen::Vector2d> LineTracker::sample_points(const LineSegment& line) const {

@@ -24,6 +24,11 @@ struct LineTrackerConfig {
   int max_iterations = 10;
   double epsilon_px = 0.01;  ///< LK stops when an update is smaller than this
   double min_eigen_threshold = 1e-4;  ///< cv::calcOpticalFlowPyrLK's minEigThreshold
+  /// make_pyramid scales each frame to this mean grey level first, so LK's constant-brightness
+  /// assumption holds under flicker and exposure changes (0 = off; see OpticalFlowPyramid). Off
+  /// by default: re-quantising every frame costs LK accuracy on steadily lit frames
+  /// (docs/lines.md), and a global gain does not undo lamps flickering against daylight.
+  double normalized_mean = 0.0;
   // Sampling along each line.
   double sample_spacing_px = 10.0;
   int min_samples = 5;   ///< short lines still get this many samples

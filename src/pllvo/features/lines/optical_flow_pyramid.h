@@ -13,20 +13,25 @@ class OpticalFlowPyramid {
  public:
   OpticalFlowPyramid() = default;
   /// `window`: the LK window it will serve (sets the border padding); `max_level`: 0 = only
-  /// the full-resolution image. Throws InputError for an empty or non-8-bit-gray image.
-  OpticalFlowPyramid(const cv::Mat& gray, cv::Size window, int max_level);
+  /// the full-resolution image. `normalized_mean` > 0 scales the image so that its mean grey
+  /// level is that value before the pyramid is built: LK assumes constant brightness, and a
+  /// flickering lamp or an exposure change scales the whole frame (0 = the image as it is).
+  /// Throws InputError for an empty or non-8-bit-gray image.
+  OpticalFlowPyramid(const cv::Mat& gray, cv::Size window, int max_level, double normalized_mean = 0.0);
 
   bool empty() const { return levels_.empty(); }
   const std::vector<cv::Mat>& levels() const { return levels_; }
   cv::Size window() const { return window_; }
   int max_level() const { return max_level_; }
   cv::Size image_size() const { return size_; }
+  double gain() const { return gain_; }  ///< brightness gain applied (1 = none)
 
  private:
   std::vector<cv::Mat> levels_;
   cv::Size window_;
   int max_level_ = 0;
   cv::Size size_;
+  double gain_ = 1.0;
 };
 
 }  // namespace pllvo::lines
