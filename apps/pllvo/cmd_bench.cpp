@@ -78,8 +78,8 @@ void run_bench(const BenchArgs& a) {
   report::write_text_file(out / "bench.txt", text);
   report::write_text_file(out / "bench.csv", report::format_bench_csv(result));
   report::write_text_file(out / "bench.json", report::bench_json(result, o.methods).dump(2) + "\n");
-  std::printf("\nmedian over %d run%s (spread = max - min in brackets); times in ms; 'x %s' = wall time per frame "
-              "relative to %s on the same sequence\nwritten: %s/{bench.txt, bench.csv, bench.json}\n",
+  std::printf("\nmedian over %d run%s (spread = max - min in brackets); times in ms; 'x %s' = CPU time per frame "
+              "(all threads) relative to %s on the same sequence\nwritten: %s/{bench.txt, bench.csv, bench.json}\n",
               a.repeat, a.repeat > 1 ? "s" : "", table.speed_baseline.c_str(), table.speed_baseline.c_str(),
               a.out.c_str());
 }

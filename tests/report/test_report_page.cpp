@@ -106,8 +106,8 @@ fs::path make_run_dir(const std::string& name, const io::Trajectory& gt) {
   io::write_tum(gt, dir / "groundtruth.tum");
   std::ofstream(dir / "stats.json") << R"({"sequence": "/nonexistent/seq", "format": "euroc", "mode": "stereo",
     "frontend": "orb", "frames": 200, "tracked_frames": 200, "keyframes": 20, "resets": 0, "frames_per_second": 25.0,
-    "timing_ms": {"frame": {"count": 200, "mean_ms": 12.0, "p95_ms": 30.0}, "klt": {"count": 200, "mean_ms": 4.0, "p95_ms": 6.0},
-                  "kf_ba": {"count": 20, "mean_ms": 60.0, "p95_ms": 90.0}}})";
+    "timing_ms": {"frame": {"count": 200, "mean": 12.0, "p95": 30.0}, "klt": {"count": 200, "mean": 4.0, "p95": 6.0},
+                  "kf_ba": {"count": 20, "mean": 60.0, "p95": 90.0}}})";
   cv::Mat frame(240, 376, CV_8UC3, cv::Scalar(255, 0, 255));  // magenta (BGR)
   cv::imwrite((dir / "frames" / "frame_17.png").string(), frame);
   return dir;

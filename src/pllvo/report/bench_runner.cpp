@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include <spdlog/spdlog.h>
+#include <sys/resource.h>
 
 #include "pllvo/common/error.h"
 #include "pllvo/io/sequence.h"
@@ -13,6 +14,14 @@
 
 namespace pllvo::report {
 namespace {
+
+/// User + system CPU time of this process, all threads, in milliseconds.
+double process_cpu_ms() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  auto ms = [](const timeval& t) { return t.tv_sec * 1000.0 + t.tv_usec / 1000.0; };
+  return ms(u.ru_utime) + ms(u.ru_stime);
+}
 
 std::string format_duration(double s) {
   char buf[32];
@@ -34,8 +43,11 @@ RunMetrics run_once(const io::Sequence& sequence, const vo::VoConfig& config, co
   RunMetrics m;
   try {
     if (!out_dir.empty()) std::filesystem::create_directories(out_dir);
+    const double cpu_start = process_cpu_ms();
     const vo::RunSummary s = vo::run_sequence(sequence, config, run);
+    const double cpu = process_cpu_ms() - cpu_start;
     add_stats(s.stats, m);
+    m.cpu_ms_per_frame = m.frames > 0 ? cpu / m.frames : NAN;
     const double rate = sequence.calibration().rate_hz > 0 ? sequence.calibration().rate_hz : 20.0;
     if (sequence.ground_truth())
       add_trajectory_errors(s.trajectory, *sequence.ground_truth(), s.stereo,
@@ -131,17 +143,20 @@ BenchResult run_bench(const BenchOptions& o) {
       aggregate_cell(cell);
       result.cells.push_back(std::move(cell));
     }
-    // Speed relative to the baseline measured on the same sequence in this bench.
+    // Speed relative to the baseline measured on the same sequence in this bench: CPU time
+    // (robust to other load on the machine) and wall time.
     const BenchCell* base = result.find(o.speed_baseline, o.sequences[si].name);
     for (auto& c : result.cells) {
       if (c.sequence != o.sequences[si].name || !base) continue;
-      const auto b = base->stats.find("wall_ms_per_frame");
-      const auto v = c.stats.find("wall_ms_per_frame");
-      if (b == base->stats.end() || v == c.stats.end() || !(b->second.median > 0)) continue;
-      std::vector<double> ratios;
-      for (const auto& r : c.runs)
-        if (r.ok()) ratios.push_back(r.wall_ms_per_frame / b->second.median);
-      c.stats["speed_ratio"] = aggregate(ratios);
+      for (const auto& [key, ratio_key] : {std::pair<std::string, std::string>{"cpu_ms_per_frame", "speed_ratio"},
+                                           {"wall_ms_per_frame", "wall_ratio"}}) {
+        const auto b = base->stats.find(key);
+        if (b == base->stats.end() || !(b->second.median > 0)) continue;
+        std::vector<double> ratios;
+        for (const auto& r : c.runs)
+          if (r.ok()) ratios.push_back(r.values().at(key) / b->second.median);
+        c.stats[ratio_key] = aggregate(ratios);
+      }
     }
   }
   return result;

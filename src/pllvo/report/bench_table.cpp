@@ -82,7 +82,7 @@ std::string format_bench_table(const BenchResult& r) {
   const std::vector<Column> cols = {
       {"sequence", true}, {"method", true}, {"ATE m"},     {"ATE %"},    {"RPE m"},  {"RPE deg"},
       {"tracked %"},      {"KF"},           {"ms/frame mean"}, {"med"},  {"p95"},    {"wall ms/f"},
-      {"x " + r.speed_baseline}, {"pt-ext"}, {"line-ext"}, {"track"}, {"match"}, {"BA"}, {"note", true}};
+      {"cpu ms/f"},       {"x " + r.speed_baseline}, {"pt-ext"}, {"line-ext"}, {"track"}, {"match"}, {"BA"}, {"note", true}};
   std::vector<std::vector<std::string>> rows;
   for (const auto& seq : r.sequences) {
     for (const auto& method : r.methods) {
@@ -105,6 +105,7 @@ std::string format_bench_table(const BenchResult& r) {
       row.push_back(fmt(median_of(*c, "frame_ms_median"), "%.1f"));
       row.push_back(fmt(median_of(*c, "frame_ms_p95"), "%.1f"));
       row.push_back(with_spread(*c, "wall_ms_per_frame", "%.1f", r.repeat));
+      row.push_back(with_spread(*c, "cpu_ms_per_frame", "%.1f", r.repeat));
       row.push_back(fmt(median_of(*c, "speed_ratio"), "%.2f"));
       for (const auto& t : module_timers()) row.push_back(fmt(median_of(*c, "ms_" + t.column), "%.1f"));
       row.push_back(c->failed ? std::to_string(c->failed) + " of " + std::to_string(c->runs.size()) + " runs failed"
@@ -122,7 +123,7 @@ std::string format_bench_table(const BenchResult& r) {
                                       fmt(100 * get("tracked_share"), "%.1f"), fmt(get("keyframes"), "%.0f"),
                                       fmt(get("frame_ms_mean"), "%.1f"), fmt(get("frame_ms_median"), "%.1f"),
                                       fmt(get("frame_ms_p95"), "%.1f"), fmt(get("wall_ms_per_frame"), "%.1f"),
-                                      fmt(get("speed_ratio"), "%.2f")};
+                                      fmt(get("cpu_ms_per_frame"), "%.1f"), fmt(get("speed_ratio"), "%.2f")};
       for (const auto& t : module_timers()) row.push_back(fmt(get("ms_" + t.column), "%.1f"));
       row.push_back("");
       rows.push_back(row);
@@ -146,8 +147,10 @@ std::string format_bench_csv(const BenchResult& r) {
       const auto it = c.stats.find(k);
       // Missing values are empty fields.
       const bool has = it != c.stats.end();
-      out += "," + (has && std::isfinite(it->second.median) ? fmt(it->second.median, "%.6g") : std::string());
-      out += "," + (has && std::isfinite(it->second.spread) ? fmt(it->second.spread, "%.6g") : std::string());
+      out += ',';
+      if (has && std::isfinite(it->second.median)) out += fmt(it->second.median, "%.6g");
+      out += ',';
+      if (has && std::isfinite(it->second.spread)) out += fmt(it->second.spread, "%.6g");
     }
     out += "\n";
   }

@@ -68,11 +68,11 @@ std::string timing_chart(const nlohmann::json& stats) {
   const auto timing = stats.value("timing_ms", nlohmann::json::object());
   std::vector<std::pair<double, std::string>> order;
   for (auto it = timing.begin(); it != timing.end(); ++it)
-    if (it.value().contains("mean_ms")) order.push_back({it.value()["mean_ms"].get<double>(), it.key()});
+    if (it.value().contains("mean")) order.push_back({it.value()["mean"].get<double>(), it.key()});
   std::sort(order.rbegin(), order.rend());
   for (const auto& [mean, name] : order) {
     const auto& t = timing[name];
-    chart.add(name + " (" + std::to_string(t.value("count", 0)) + "x)", mean, t.value("p95_ms", 0.0));
+    chart.add(name + " (" + std::to_string(t.value("count", 0)) + "x)", mean, t.value("p95", 0.0));
   }
   return chart.render(1180);
 }

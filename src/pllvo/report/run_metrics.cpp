@@ -41,6 +41,7 @@ std::map<std::string, double> RunMetrics::values() const {
       {"frame_ms_median", frame_ms_median},
       {"frame_ms_p95", frame_ms_p95},
       {"wall_ms_per_frame", wall_ms_per_frame},
+      {"cpu_ms_per_frame", cpu_ms_per_frame},
   };
   for (const auto& t : module_timers()) {
     const auto it = module_ms.find(t.column);
@@ -83,15 +84,15 @@ void add_stats(const nlohmann::json& stats, RunMetrics& m) {
   m.wall_ms_per_frame = m.frames > 0 ? 1000.0 * wall / m.frames : NAN;
   const nlohmann::json timing = stats.value("timing_ms", nlohmann::json::object());
   if (timing.contains("frame")) {
-    m.frame_ms_mean = number(timing["frame"], "mean_ms");
-    m.frame_ms_median = number(timing["frame"], "median_ms");
-    m.frame_ms_p95 = number(timing["frame"], "p95_ms");
+    m.frame_ms_mean = number(timing["frame"], "mean");
+    m.frame_ms_median = number(timing["frame"], "median");
+    m.frame_ms_p95 = number(timing["frame"], "p95");
   }
   for (const auto& t : module_timers()) {
     double sum = 0;
     bool any = false;
     for (const auto& name : t.timers)
-      if (timing.contains(name)) sum += number(timing[name], "mean_ms"), any = true;
+      if (timing.contains(name)) sum += number(timing[name], "mean"), any = true;
     m.module_ms[t.column] = any ? sum : 0.0;  // a module that never ran took no time
   }
 }

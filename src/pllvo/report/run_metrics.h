@@ -29,6 +29,9 @@ struct RunMetrics {
   double rpe_trans_m = NAN, rpe_rot_deg = NAN; ///< RPE RMSE over pairs ~1 s apart
   double frame_ms_mean = NAN, frame_ms_median = NAN, frame_ms_p95 = NAN;  ///< tracking thread
   double wall_ms_per_frame = NAN;  ///< whole run (worker included) / frames: throughput
+  /// CPU time of the process (all threads) during the run / frames: the cost, much less
+  /// disturbed than wall time by other work on a shared machine.
+  double cpu_ms_per_frame = NAN;
   std::map<std::string, double> module_ms;  ///< module_timers() columns, mean ms per call
 
   bool ok() const { return error.empty(); }
