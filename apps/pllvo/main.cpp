@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   pllvo::cli::add_match_command(app);
   pllvo::cli::add_bench_command(app);
   pllvo::cli::add_report_command(app);
+  pllvo::cli::add_demo_command(app);
 
   try {
     app.parse(argc, argv);

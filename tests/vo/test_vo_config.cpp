@@ -36,6 +36,25 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_DOUBLE_EQ(file.mapping.mnn_max_distance, code.mapping.mnn_max_distance);
   EXPECT_EQ(file.mapping.matcher, code.mapping.matcher);
   EXPECT_EQ(file.run.threaded, code.run.threaded);
+  EXPECT_EQ(file.pipeline.lines, code.pipeline.lines);
+  EXPECT_EQ(file.pipeline.line_tracking, code.pipeline.line_tracking);
+}
+
+TEST(VoConfig, PipelineSwitchesAreReadAndChecked) {
+  const VoConfig c = VoConfig::load(write_yaml(
+      "pipeline", "pipeline:\n  lines: false\n  line_tracking: redetect\nlines:\n  cross_constraint:\n"
+                  "    enabled: false\nkeyframes:\n  use_line_trigger: false\nmapping:\n  matcher: mnn\n"));
+  EXPECT_FALSE(c.pipeline.lines);
+  EXPECT_EQ(c.pipeline.line_tracking, "redetect");
+  EXPECT_FALSE(c.lines.cross_constraint.enabled);
+  EXPECT_FALSE(c.keyframes.use_line_trigger);
+  EXPECT_EQ(c.mapping.matcher, "mnn");
+  try {
+    VoConfig::load(write_yaml("badtracking", "pipeline:\n  line_tracking: optical\n"));
+    FAIL() << "accepted line_tracking: optical";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("pipeline.line_tracking"), std::string::npos) << e.what();
+  }
 }
 
 TEST(VoConfig, FileOverridesOnlyTheKeysItNames) {

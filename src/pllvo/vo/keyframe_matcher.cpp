@@ -1,8 +1,12 @@
 #include "pllvo/vo/keyframe_matcher.h"
 
+#include <algorithm>
+
 #include <opencv2/features2d.hpp>
 
 #include "pllvo/common/error.h"
+#include "pllvo/nn/matcher.h"
+#include "pllvo/nn/model_files.h"
 
 namespace pllvo::vo {
 namespace {
@@ -37,34 +41,84 @@ class HammingRatioMatcher final : public KeyframeMatcher {
   int max_distance_;
 };
 
-// INTERIM (until nn/ lands with its MNN and LightGlue): mutual nearest neighbour in L2 via
-// cv::BFMatcher's cross check.
-class MutualNearestMatcher final : public KeyframeMatcher {
+/// Binary descriptors, mapping.matcher: mnn: mutual nearest neighbours in Hamming distance.
+class HammingMutualMatcher final : public KeyframeMatcher {
  public:
-  explicit MutualNearestMatcher(const MappingConfig& c) : max_distance_(c.mnn_max_distance) {}
-  std::string name() const override { return "mnn"; }
+  explicit HammingMutualMatcher(const MappingConfig& c) : max_distance_(c.orb_max_hamming) {}
+  std::string name() const override { return "hamming-mnn"; }
   std::vector<PointMatch> match(const PointFeatures& a, const PointFeatures& b, cv::Size) override {
     std::vector<PointMatch> out;
     if (a.empty() || b.empty()) return out;
-    cv::BFMatcher bf(a.binary() ? cv::NORM_HAMMING : cv::NORM_L2, true);
+    cv::BFMatcher bf(cv::NORM_HAMMING, true);
     std::vector<cv::DMatch> matches;
     bf.match(a.descriptors, b.descriptors, matches);
     for (const auto& m : matches)
-      if (a.binary() || m.distance <= max_distance_) out.push_back({m.queryIdx, m.trainIdx, m.distance});
+      if (m.distance <= max_distance_) out.push_back({m.queryIdx, m.trainIdx, m.distance});
     return out;
   }
 
  private:
-  double max_distance_;
+  int max_distance_;
+};
+
+nn::Features to_nn(const PointFeatures& f, cv::Size image_size) {
+  nn::Features out;
+  const auto n = static_cast<Eigen::Index>(f.size());
+  out.keypoints.resize(n, 2);
+  out.scores.resize(n);
+  out.descriptors.resize(n, f.descriptors.cols);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    out.keypoints(i, 0) = f.points[i].x;
+    out.keypoints(i, 1) = f.points[i].y;
+    out.scores(i) = f.scores.empty() ? 1.0f : f.scores[i];
+    std::copy_n(f.descriptors.ptr<float>(static_cast<int>(i)), f.descriptors.cols, out.descriptors.row(i).data());
+  }
+  out.image_size = {image_size.width, image_size.height};
+  return out;
+}
+
+/// Float descriptors (SuperPoint): nn's LightGlue or mutual nearest neighbours.
+class NeuralMatcher final : public KeyframeMatcher {
+ public:
+  explicit NeuralMatcher(std::unique_ptr<nn::FeatureMatcher> matcher) : matcher_(std::move(matcher)) {}
+  std::string name() const override { return matcher_->name(); }
+  std::vector<PointMatch> match(const PointFeatures& a, const PointFeatures& b, cv::Size image_size) override {
+    std::vector<PointMatch> out;
+    if (a.empty() || b.empty()) return out;
+    if (a.binary() || b.binary()) throw InternalError("keyframe matcher: SuperPoint matching needs float descriptors");
+    const nn::Matches m = matcher_->match(to_nn(a, image_size), to_nn(b, image_size));
+    out.reserve(static_cast<size_t>(m.size()));
+    for (int k = 0; k < m.size(); ++k) out.push_back({m.pairs(k, 0), m.pairs(k, 1), m.scores(k)});
+    return out;
+  }
+
+ private:
+  std::unique_ptr<nn::FeatureMatcher> matcher_;
 };
 
 }  // namespace
 
 std::unique_ptr<KeyframeMatcher> make_keyframe_matcher(const MappingConfig& config, const std::string& frontend) {
-  if (frontend == "orb" || frontend == "shitomasi") return std::make_unique<HammingRatioMatcher>(config);
-  if (config.matcher == "lightglue")
-    throw InputError("matcher 'lightglue' is not available in this build yet (the nn module has not landed)");
-  return std::make_unique<MutualNearestMatcher>(config);
+  if (frontend == "orb" || frontend == "shitomasi") {
+    if (config.matcher == "lightglue")
+      throw InputError("mapping.matcher 'lightglue' needs SuperPoint descriptors (frontend.type superpoint); the '" +
+                       frontend + "' front end matches with 'auto' (Hamming + ratio test) or 'mnn'");
+    if (config.matcher == "mnn") return std::make_unique<HammingMutualMatcher>(config);
+    return std::make_unique<HammingRatioMatcher>(config);
+  }
+  nn::MatcherConfig mc;
+  mc.type = config.matcher == "mnn" ? "mnn" : "lightglue";
+  mc.lightglue.weights = config.lightglue_weights;
+  mc.mnn.distance_threshold = static_cast<float>(config.mnn_max_distance);
+  if (config.matcher == "lightglue") {
+    // Asked for by name (an ablation, a benchmark): no silent fallback.
+    const auto search = nn::find_weights(config.lightglue_weights, nn::kLightGlueWeights);
+    if (!search.found)
+      throw InputError("mapping.matcher is 'lightglue' but LightGlue weights " +
+                       search.not_found_message(nn::kLightGlueWeights) + "; use 'auto' to fall back to 'mnn'");
+  }
+  std::string notice;  // auto without weights: nn logs the fallback to mutual nearest neighbours
+  return std::make_unique<NeuralMatcher>(nn::make_matcher(mc, &notice));
 }
 
 }  // namespace pllvo::vo

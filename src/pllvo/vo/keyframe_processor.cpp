@@ -53,7 +53,7 @@ KeyframeProcessor::KeyframeProcessor(const VoConfig& config, const Pinhole& came
       matcher_(make_keyframe_matcher(config.mapping, config.frontend.type)),
       frontend_name_(frontend_->name()),
       stereo_tracker_(config.klt) {
-  if (config_.mapping.use_lines)
+  if (config_.pipeline.lines)
     line_mapper_ = std::make_unique<LineMapper>(config_.lines, config_.geometry.line_triangulation, camera_);
   // A monocular map has a free scale as well: two fixed keyframes pin it.
   if (baseline_ <= 0)
@@ -149,6 +149,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job) {
     map_.read([&](const MapData& m) { prev = m.keyframes.at(segment_keyframes_.back()); });
     matches = matcher_->match(prev.features, features, job.left.size());
     result.matches = static_cast<int>(matches.size());
+    frontend_->report_matches(result.matches, static_cast<int>(features.size()));
     std::set<Id> used(ids.begin(), ids.end());
     for (const auto& mt : matches) {
       if (ids[mt.b] != kNoId || origins[mt.b].keyframe != kNoId) continue;  // tracked: already known

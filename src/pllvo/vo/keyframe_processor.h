@@ -77,6 +77,7 @@ class KeyframeProcessor {
   void start_segment();
   int segment() const { return segment_; }
   const std::string& frontend_name() const { return frontend_name_; }
+  std::string matcher_name() const { return matcher_->name(); }
 
  private:
   geometry::Pose current_pose(const KeyframeJob& job);

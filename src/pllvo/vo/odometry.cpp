@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 
 #include <spdlog/spdlog.h>
 
 #include "pllvo/common/error.h"
+#include "pllvo/features/lines/cross_constraint.h"
 
 namespace pllvo::vo {
 namespace {
@@ -30,6 +32,42 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+/// Re-detection baseline (pipeline.line_tracking: redetect): each expected segment takes the
+/// detection on the same image line (direction within kRedetectAngleDeg, both detected
+/// endpoints within kRedetectDistancePx of the expected line, overlapping along it), closest
+/// first, one to one.
+constexpr double kRedetectAngleDeg = 5.0;
+constexpr double kRedetectDistancePx = 6.0;
+
+std::vector<int> associate_by_position(const std::vector<lines::LineSegment>& expected,
+                                       const std::vector<lines::LineSegment>& detections) {
+  struct Pair {
+    double score;
+    int e, d;
+  };
+  std::vector<Pair> pairs;
+  const double max_angle = kRedetectAngleDeg * M_PI / 180.0;
+  for (int e = 0; e < static_cast<int>(expected.size()); ++e) {
+    const auto& x = expected[e];
+    for (int d = 0; d < static_cast<int>(detections.size()); ++d) {
+      const auto& y = detections[d];
+      if (lines::acute_angle(x, y) > max_angle) continue;
+      const double ds = std::abs(lines::signed_line_distance(y.start, x)),
+                   de = std::abs(lines::signed_line_distance(y.end, x));
+      if (std::max(ds, de) > kRedetectDistancePx) continue;
+      const double s0 = lines::project_along(y.start, x), s1 = lines::project_along(y.end, x);
+      if (std::min(x.length(), std::max(s0, s1)) - std::max(0.0, std::min(s0, s1)) <= 0) continue;
+      pairs.push_back({ds + de + (x.midpoint() - y.midpoint()).norm() * 0.1, e, d});
+    }
+  }
+  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.score < b.score; });
+  std::vector<int> out(expected.size(), -1);
+  std::vector<char> used(detections.size(), 0);
+  for (const auto& p : pairs)
+    if (out[p.e] < 0 && !used[p.d]) out[p.e] = p.d, used[p.d] = 1;
+  return out;
+}
+
 }  // namespace
 
 Odometry::Odometry(const VoConfig& config, const io::Calibration& calibration, bool use_stereo, RunStats& stats)
@@ -38,8 +76,10 @@ Odometry::Odometry(const VoConfig& config, const io::Calibration& calibration, b
       rectifier_(calibration, use_stereo && calibration.stereo()),
       camera_(rectifier_.camera()),
       tracker_(config.klt),
-      use_lines_(config.mapping.use_lines),
+      use_lines_(config.pipeline.lines),
+      redetect_lines_(config.pipeline.line_tracking == "redetect"),
       line_tracker_(config.lines.tracker),
+      line_detector_(config.lines.detector),
       policy_(config.keyframes),
       processor_(config, camera_, rectifier_.baseline(), map_, stats),
       worker_(config.run.threaded) {
@@ -345,7 +385,7 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
       }
       predicted_lines.push_back(p);
     }
-    line_tracks_ = track_lines(previous_pyramid_, pyramid, line_tracks_, &predicted_lines);
+    line_tracks_ = track_lines(previous_pyramid_, pyramid, line_tracks_, &predicted_lines, &line_detector_);
     if (config_.pose.use_lines) {
       map_.read([&](const MapData& m) {
         for (size_t i = 0; i < line_tracks_.size(); ++i) {
@@ -514,6 +554,9 @@ void Odometry::PyramidBuffer::clear() {
 
 void Odometry::follow(const std::vector<std::pair<size_t, ImagePyramid>>& frames, std::vector<TrackedPoint>& points,
                       std::vector<TrackedLine>& lines) const {
+  // follow() also runs on the worker: re-detection there needs its own detector.
+  std::optional<lines::LineDetector> detector;
+  if (use_lines_ && redetect_lines_ && !lines.empty()) detector.emplace(config_.lines.detector);
   for (size_t k = 1; k < frames.size(); ++k) {
     const ImagePyramid& from = frames[k - 1].second;
     const ImagePyramid& to = frames[k].second;
@@ -526,7 +569,7 @@ void Odometry::follow(const std::vector<std::pair<size_t, ImagePyramid>>& frames
         if (tr.ok[i]) next.push_back({tr.points[i], points[i].point, points[i].origin, points[i].last});
       points = std::move(next);
     }
-    if (use_lines_) lines = track_lines(from, to, lines);
+    if (use_lines_) lines = track_lines(from, to, lines, nullptr, detector ? &*detector : nullptr);
   }
 }
 
@@ -616,11 +659,28 @@ void Odometry::apply_keyframe_results() {
 
 std::vector<TrackedLine> Odometry::track_lines(const ImagePyramid& from, const ImagePyramid& to,
                                                const std::vector<TrackedLine>& lines,
-                                               const std::vector<lines::LineSegment>* predicted) const {
+                                               const std::vector<lines::LineSegment>* predicted,
+                                               lines::LineDetector* detector) const {
   if (lines.empty()) return {};
   std::vector<lines::LineSegment> segments;
   segments.reserve(lines.size());
   for (const auto& l : lines) segments.push_back(l.segment);
+  if (redetect_lines_) {
+    if (!detector) return {};
+    auto detections = detector->detect(to.image);
+    stats_.add_count("line_redetections");
+    if (config_.lines.cross_constraint.enabled)
+      detections = lines::apply_cross_constraint(detections, config_.lines.cross_constraint);
+    const auto assignment = associate_by_position(predicted ? *predicted : segments, detections);
+    std::vector<TrackedLine> kept;
+    for (size_t i = 0; i < lines.size(); ++i) {
+      if (assignment[i] < 0) continue;
+      TrackedLine l = lines[i];
+      l.segment = detections[assignment[i]];
+      kept.push_back(l);
+    }
+    return kept;
+  }
   const auto tracks = line_tracker_.track(from.flow, to.flow, segments, predicted);
   std::vector<TrackedLine> kept;
   for (size_t i = 0; i < tracks.size(); ++i) {

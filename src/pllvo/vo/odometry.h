@@ -8,6 +8,7 @@
 #include <set>
 #include <vector>
 
+#include "pllvo/features/lines/line_detector.h"
 #include "pllvo/features/lines/line_tracker.h"
 #include "pllvo/features/lines/overlap_angles.h"
 #include "pllvo/io/sequence.h"
@@ -50,6 +51,8 @@ class Odometry {
   const std::vector<FrameRecord>& records() const { return records_; }
   TrackingState state() const { return state_; }
   bool stereo() const { return rectifier_.stereo(); }
+  /// The keyframe matcher actually used (after the LightGlue -> MNN fallback).
+  std::string matcher_name() const { return processor_.matcher_name(); }
   int resets() const { return resets_; }
   /// Keyframe poses (T_world_cam0, after bundle adjustment) with their timestamps.
   io::Trajectory keyframe_trajectory() const;
@@ -102,7 +105,8 @@ class Odometry {
   /// Follows `lines` from one pyramid to the next; drops those the tracker rejects.
   std::vector<TrackedLine> track_lines(const ImagePyramid& from, const ImagePyramid& to,
                                        const std::vector<TrackedLine>& lines,
-                                       const std::vector<lines::LineSegment>* predicted = nullptr) const;
+                                       const std::vector<lines::LineSegment>* predicted = nullptr,
+                                       lines::LineDetector* detector = nullptr) const;
   void set_reference_lines(const std::vector<TrackedLine>& lines);
   std::optional<double> line_angle_distance() const;
   void handle_lost();
@@ -115,7 +119,9 @@ class Odometry {
   Pinhole camera_;
   PointTracker tracker_;
   bool use_lines_;
+  bool redetect_lines_;  ///< pipeline.line_tracking: redetect
   lines::LineTracker line_tracker_;
+  lines::LineDetector line_detector_;  ///< tracking thread, redetect mode only
   KeyframePolicy policy_;
   Map map_;
   KeyframeProcessor processor_;

@@ -7,6 +7,7 @@
 
 #include "pllvo/common/error.h"
 #include "pllvo/vo/classical_frontends.h"
+#include "pllvo/vo/superpoint_frontend.h"
 
 namespace pllvo::vo {
 
@@ -74,9 +75,7 @@ cv::Mat equalize_for_detection(const cv::Mat& image) {
 std::unique_ptr<PointFrontend> make_point_frontend(const FrontendConfig& config) {
   if (config.type == "orb") return std::make_unique<OrbFrontend>(config);
   if (config.type == "shitomasi") return std::make_unique<ShiTomasiFrontend>(config);
-  if (config.type == "superpoint")
-    throw InputError("frontend 'superpoint' is not available in this build yet (the nn module has not landed); "
-                     "use --frontend orb or shitomasi");
+  if (config.type == "superpoint") return std::make_unique<SuperPointFrontend>(config);
   throw InputError("unknown point front end '" + config.type + "' (superpoint, orb, shitomasi)");
 }
 

@@ -37,6 +37,9 @@ class PointFrontend {
   /// point, up to the configured total. Any image, also a black or flat one, is fine: it just
   /// yields few or no points.
   virtual PointFeatures detect(const cv::Mat& image, const std::vector<cv::Point2f>& tracked = {}) = 0;
+  /// Feedback after the keyframe was matched with the previous one: `matched` of its
+  /// `keypoints` found a partner. Detectors that adapt to it (SuperPoint's threshold) use it.
+  virtual void report_matches(int /*matched*/, int /*keypoints*/) {}
 };
 
 /// The front end named by `config.type`; InputError when it cannot be built (e.g. missing weights).

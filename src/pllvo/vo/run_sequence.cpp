@@ -121,6 +121,11 @@ RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, co
   j["format"] = sequence.format();
   j["mode"] = summary.stereo ? "stereo" : "mono";
   j["frontend"] = config.frontend.type;
+  j["matcher"] = odometry.matcher_name();
+  j["pipeline"] = {{"lines", config.pipeline.lines},
+                   {"line_tracking", config.pipeline.line_tracking},
+                   {"cross_constraint", config.lines.cross_constraint.enabled},
+                   {"line_keyframe_trigger", config.keyframes.use_line_trigger}};
   j["threaded"] = config.run.threaded;
   j["frames"] = summary.frames;
   j["tracked_frames"] = summary.tracked_frames;

@@ -71,7 +71,12 @@ void read_mapping(const ConfigNode& n, MappingConfig& c) {
   n.get("orb_ratio", c.orb_ratio);
   n.get("orb_max_hamming", c.orb_max_hamming);
   n.get("max_anchor_keyframes", c.max_anchor_keyframes);
-  n.get("use_lines", c.use_lines);
+  n.reject_unknown_keys();
+}
+
+void read_pipeline(const ConfigNode& n, PipelineConfig& c) {
+  n.get("lines", c.lines);
+  n.get("line_tracking", c.line_tracking);
   n.reject_unknown_keys();
 }
 
@@ -103,6 +108,7 @@ void VoConfig::read(const ConfigNode& node) {
   read_init(node.child("init"), init);
   read_pose(node.child("pose"), pose);
   read_mapping(node.child("mapping"), mapping);
+  read_pipeline(node.child("pipeline"), pipeline);
   read_run(node.child("run"), run);
   geometry.load(node.child("geometry"));
   backend.load(node.child("backend"));
@@ -132,6 +138,8 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(init.min_points >= 8, file, "init.min_points", "must be at least 8");
   require(mapping.matcher == "auto" || mapping.matcher == "lightglue" || mapping.matcher == "mnn", file,
           "mapping.matcher", "must be auto, lightglue or mnn");
+  require(pipeline.line_tracking == "flow" || pipeline.line_tracking == "redetect", file,
+          "pipeline.line_tracking", "must be flow or redetect (got '" + pipeline.line_tracking + "')");
   require(mapping.max_anchor_keyframes >= 0, file, "mapping.max_anchor_keyframes", "must not be negative");
   require(klt.min_ncc >= -1 && klt.min_ncc <= 1, file, "klt.min_ncc", "must be in [-1, 1]");
 }

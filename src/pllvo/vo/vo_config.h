@@ -28,7 +28,7 @@ struct FrontendConfig {
   double shitomasi_quality = 0.005;  ///< relative to the strongest corner; low for low light
   int shitomasi_block_size = 3;
   // SuperPoint (nn module): input scale chosen by measurement (see docs/vo.md).
-  std::string superpoint_weights = "";  ///< empty: ../shared/models/superpoint_v1.safetensors
+  std::string superpoint_weights = "";  ///< file or folder; empty: the nn lookup ($PLLVO_MODELS, models/)
   double superpoint_input_scale = 0.5;
   double superpoint_threshold = 0.005;  ///< starting detection threshold
   bool superpoint_adaptive_threshold = true;
@@ -104,7 +104,18 @@ struct MappingConfig {
   /// Older keyframes (outside the window) that see the window's points join the BA, fixed,
   /// to anchor it; at most this many.
   int max_anchor_keyframes = 5;
-  bool use_lines = true;
+};
+
+/// Whole-pipeline switches for ablations and baselines (pllvo bench): each turns one of the
+/// paper's contributions off everywhere it acts.
+struct PipelineConfig {
+  /// Lines at all: detection on keyframes, line optical flow, line residuals in the pose and
+  /// the bundle adjustment, the line keyframe trigger. false: a points-only VO.
+  bool lines = true;
+  /// How lines follow the camera between keyframes: `flow` (line optical flow, paper 3.1) or
+  /// `redetect` (the usual baseline: lines detected in every frame and associated with the
+  /// previous frame's lines by position, predicted by the motion prior; no flow).
+  std::string line_tracking = "flow";
 };
 
 /// Everything else: threads, progress, output.
@@ -125,6 +136,7 @@ struct VoConfig {
   InitConfig init;
   PoseConfig pose;
   MappingConfig mapping;
+  PipelineConfig pipeline;
   RunConfig run;
   geometry::GeometryConfig geometry;  ///< section `geometry:` (keys of config/geometry.yaml)
   backend::BackendConfig backend;     ///< section `backend:` (keys of config/backend.yaml)

@@ -1,0 +1,151 @@
+// The ablation / baseline switches of VoConfig (what `pllvo bench` varies) each change what
+// the pipeline does, seen in stats.json, on one short rendered stereo sequence
+// (easy_normal, 3 s), deterministic single-thread mode.
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "pllvo/common/error.h"
+#include "pllvo/common/fixtures.h"
+#include "pllvo/io/sequence.h"
+#include "pllvo/nn/model_files.h"
+#include "pllvo/synth/sequence_writer.h"
+#include "pllvo/synth/spec.h"
+#include "pllvo/vo/run_sequence.h"
+
+namespace pllvo::vo {
+namespace {
+namespace fs = std::filesystem;
+
+class PipelineSwitches : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(fs::temp_directory_path() / "pllvo_vo_switches_easy_normal");
+    fs::remove_all(*dir_);
+    synth::SequenceSpec spec = synth::preset("easy_normal");
+    spec.duration_s = 3;
+    spec.camera.stereo = true;
+    synth::write_sequence(spec, *dir_);
+    sequence_ = io::open_sequence(*dir_).release();
+  }
+  static void TearDownTestSuite() {
+    delete sequence_;
+    fs::remove_all(*dir_);
+    delete dir_;
+  }
+
+  static VoConfig base() {
+    VoConfig c;
+    c.run.threaded = false;
+    c.run.progress_interval_s = 0;
+    return c;
+  }
+  static nlohmann::json run(const VoConfig& c) {
+    c.validate();
+    const RunSummary s = run_sequence(*sequence_, c, RunOptions{});
+    EXPECT_EQ(s.tracked_frames, s.frames);
+    return s.stats;
+  }
+  static double per_frame_mean(const nlohmann::json& j, const std::string& name) {
+    return j["per_frame"].contains(name) ? j["per_frame"][name]["mean"].get<double>() : 0.0;
+  }
+  static long long count(const nlohmann::json& j, const std::string& name) {
+    return j["counts"].contains(name) ? j["counts"][name].get<long long>() : 0;
+  }
+
+  static fs::path* dir_;
+  static io::Sequence* sequence_;
+};
+fs::path* PipelineSwitches::dir_ = nullptr;
+io::Sequence* PipelineSwitches::sequence_ = nullptr;
+
+TEST_F(PipelineSwitches, LinesOffRemovesLinesEverywhere) {
+  const auto on = run(base());
+  EXPECT_GT(on["map"]["lines"].get<int>(), 0);
+  EXPECT_GT(per_frame_mean(on, "tracked_lines"), 0.0);
+  EXPECT_TRUE(on["timing_ms"].contains("line_tracking"));
+
+  VoConfig c = base();
+  c.pipeline.lines = false;
+  const auto off = run(c);
+  EXPECT_EQ(off["map"]["lines"].get<int>(), 0);
+  EXPECT_EQ(per_frame_mean(off, "tracked_lines"), 0.0);
+  EXPECT_FALSE(off["timing_ms"].contains("line_tracking"));
+  EXPECT_FALSE(off["timing_ms"].contains("kf_lines"));
+  EXPECT_FALSE(off["pipeline"]["lines"].get<bool>());
+}
+
+TEST_F(PipelineSwitches, LineRedetectionReplacesLineFlow) {
+  const auto flow = run(base());
+  EXPECT_EQ(count(flow, "line_redetections"), 0);
+  VoConfig c = base();
+  c.pipeline.line_tracking = "redetect";
+  const auto redetect = run(c);
+  // Every tracked frame with lines to follow detects lines itself...
+  EXPECT_GT(count(redetect, "line_redetections"), 30);
+  // ...and still follows lines with it (map lines measured in the pose).
+  EXPECT_GT(redetect["map"]["lines"].get<int>(), 0);
+  EXPECT_GT(per_frame_mean(redetect, "tracked_lines"), 0.0);
+  EXPECT_EQ(redetect["pipeline"]["line_tracking"].get<std::string>(), "redetect");
+}
+
+TEST_F(PipelineSwitches, CrossConstraintDropsCrossingLines) {
+  const auto on = run(base());
+  VoConfig c = base();
+  c.lines.cross_constraint.enabled = false;
+  const auto off = run(c);
+  // Without the constraint more segments per keyframe survive (crossing ones included).
+  EXPECT_GT(per_frame_mean(off, "kf_lines"), per_frame_mean(on, "kf_lines"));
+}
+
+TEST_F(PipelineSwitches, LineKeyframeTrigger) {
+  VoConfig c = base();
+  c.keyframes.line_angle_distance_deg = 1.0;  // fires readily on this sequence
+  const auto on = run(c);
+  EXPECT_GT(on["keyframes_by_reason"]["line_angles"].get<int>(), 0);
+  c.keyframes.use_line_trigger = false;
+  const auto off = run(c);
+  EXPECT_EQ(off["keyframes_by_reason"]["line_angles"].get<int>(), 0);
+}
+
+TEST_F(PipelineSwitches, MatcherChoiceForBinaryDescriptors) {
+  VoConfig c = base();
+  const auto ratio = run(c);
+  EXPECT_EQ(ratio["matcher"].get<std::string>(), "hamming-ratio");
+  c.mapping.matcher = "mnn";
+  const auto mnn = run(c);
+  EXPECT_EQ(mnn["matcher"].get<std::string>(), "hamming-mnn");
+  // Mutual nearest neighbours without the ratio test keep more (also ambiguous) matches.
+  EXPECT_GT(per_frame_mean(mnn, "kf_matches"), per_frame_mean(ratio, "kf_matches"));
+  c.mapping.matcher = "lightglue";
+  EXPECT_THROW(run(c), InputError);  // LightGlue needs SuperPoint descriptors
+}
+
+TEST_F(PipelineSwitches, FrontEnds) {
+  VoConfig c = base();
+  c.frontend.type = "shitomasi";
+  const auto st = run(c);
+  EXPECT_EQ(st["frontend"].get<std::string>(), "shitomasi");
+  EXPECT_GT(st["keyframes"].get<int>(), 1);
+
+  c = base();
+  c.frontend.type = "superpoint";
+  c.frontend.superpoint_weights = shared_path("models/superpoint_v1.safetensors").string();
+  c.mapping.matcher = "mnn";
+  const auto sp = run(c);
+  EXPECT_EQ(sp["frontend"].get<std::string>(), "superpoint");
+  EXPECT_EQ(sp["matcher"].get<std::string>(), "mnn");
+  EXPECT_GT(per_frame_mean(sp, "kf_matches"), 50.0);
+  ASSERT_TRUE(sp.contains("trajectory_error"));
+  EXPECT_LT(sp["trajectory_error"]["ate_percent_of_path"].get<double>(), 2.0);
+
+  // auto: LightGlue when its weights are found, else MNN; lightglue by name: no fallback.
+  c.mapping.matcher = "lightglue";
+  if (nn::find_weights({}, nn::kLightGlueWeights).found)
+    EXPECT_EQ(run(c)["matcher"].get<std::string>(), "lightglue");
+  else
+    EXPECT_THROW(run(c), InputError);
+}
+
+}  // namespace
+}  // namespace pllvo::vo
