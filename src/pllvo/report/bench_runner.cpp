@@ -68,6 +68,7 @@ void aggregate_cell(BenchCell& cell) {
       continue;
     }
     for (const auto& [k, v] : r.values()) values[k].push_back(v);
+    if (cell.matcher.empty()) cell.matcher = r.matcher;
   }
   for (auto& [k, v] : values) cell.stats[k] = aggregate(v);
 }

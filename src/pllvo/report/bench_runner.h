@@ -51,6 +51,7 @@ struct BenchCell {
   std::map<std::string, Aggregate> stats;  ///< by RunMetrics::values() name, plus speed_ratio
   size_t failed = 0;
   std::string error;  ///< the first failure's message
+  std::string matcher;  ///< keyframe matcher of the successful runs
 };
 
 struct BenchResult {

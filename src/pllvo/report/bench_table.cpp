@@ -108,8 +108,11 @@ std::string format_bench_table(const BenchResult& r) {
       row.push_back(with_spread(*c, "cpu_ms_per_frame", "%.1f", r.repeat));
       row.push_back(fmt(median_of(*c, "speed_ratio"), "%.2f"));
       for (const auto& t : module_timers()) row.push_back(fmt(median_of(*c, "ms_" + t.column), "%.1f"));
-      row.push_back(c->failed ? std::to_string(c->failed) + " of " + std::to_string(c->runs.size()) + " runs failed"
-                              : "");
+      std::string note = c->matcher.empty() ? "" : "matcher " + c->matcher;
+      if (c->failed)
+        note += (note.empty() ? "" : "; ") + std::to_string(c->failed) + " of " + std::to_string(c->runs.size()) +
+                " runs failed";
+      row.push_back(note);
       rows.push_back(row);
     }
     rows.push_back({});
@@ -172,7 +175,7 @@ nlohmann::json bench_json(const BenchResult& r, const std::vector<BenchMethod>& 
   }
   j["cells"] = nlohmann::json::array();
   for (const auto& c : r.cells) {
-    nlohmann::json cell = {{"sequence", c.sequence}, {"method", c.method}, {"failed", c.failed}};
+    nlohmann::json cell = {{"sequence", c.sequence}, {"method", c.method}, {"matcher", c.matcher}, {"failed", c.failed}};
     if (!c.error.empty()) cell["error"] = c.error;
     for (const auto& [k, a] : c.stats) cell["median"][k] = num(a.median), cell["spread"][k] = num(a.spread);
     cell["runs"] = nlohmann::json::array();

@@ -89,7 +89,8 @@ std::string summary_table(const ReportInput& in, const PlotSeries& s) {
     o << "<tr><th>" << xml_escape(k) << "</th><td>" << xml_escape(v) << "</td></tr>\n";
   };
   row("sequence", str("sequence"));
-  row("mode / front end", str("mode") + " / " + str("frontend"));
+  row("mode / front end / matcher", str("mode") + " / " + str("frontend") + " / " + str("matcher"));
+  if (j.contains("pipeline")) row("pipeline", j["pipeline"].dump());
   row("frames tracked", str("tracked_frames") + " of " + str("frames"));
   row("keyframes", str("keyframes"));
   row("re-initialisations", str("resets"));

@@ -75,6 +75,7 @@ void add_trajectory_errors(const io::Trajectory& estimate, const io::Trajectory&
 }
 
 void add_stats(const nlohmann::json& stats, RunMetrics& m) {
+  if (stats.contains("matcher") && stats["matcher"].is_string()) m.matcher = stats["matcher"].get<std::string>();
   m.frames = number(stats, "frames");
   m.tracked_frames = number(stats, "tracked_frames");
   m.keyframes = number(stats, "keyframes");

@@ -23,6 +23,7 @@ const std::vector<ModuleTimer>& module_timers();
 
 struct RunMetrics {
   std::string error;  ///< non-empty: the run failed with this message
+  std::string matcher;  ///< keyframe matcher the run used (stats.json; `auto` resolved)
   double frames = 0, tracked_frames = 0, keyframes = 0, resets = 0;
   double tracked_share = 0;  ///< tracked / frames
   double ate_rmse_m = NAN, ate_percent = NAN;  ///< APE translation RMSE; % of the ground-truth path
