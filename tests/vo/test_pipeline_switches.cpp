@@ -1,6 +1,6 @@
 // The ablation / baseline switches of VoConfig (what `pllvo bench` varies) each change what
 // the pipeline does, seen in stats.json, on one short rendered stereo sequence
-// (easy_normal, 3 s), deterministic single-thread mode.
+// (easy_normal, 2 s), deterministic single-thread mode.
 #include <filesystem>
 
 #include <gtest/gtest.h>
@@ -23,12 +23,14 @@ class PipelineSwitches : public ::testing::Test {
     dir_ = new fs::path(fs::temp_directory_path() / "pllvo_vo_switches_easy_normal");
     fs::remove_all(*dir_);
     synth::SequenceSpec spec = synth::preset("easy_normal");
-    spec.duration_s = 3;
+    spec.duration_s = 2;
     spec.camera.stereo = true;
     synth::write_sequence(spec, *dir_);
     sequence_ = io::open_sequence(*dir_).release();
   }
   static void TearDownTestSuite() {
+    delete baseline_;
+    baseline_ = nullptr;
     delete sequence_;
     fs::remove_all(*dir_);
     delete dir_;
@@ -46,6 +48,11 @@ class PipelineSwitches : public ::testing::Test {
     EXPECT_EQ(s.tracked_frames, s.frames);
     return s.stats;
   }
+  /// The default pipeline's run, shared by the tests (the sequence and mode are fixed).
+  static const nlohmann::json& baseline() {
+    if (!baseline_) baseline_ = new nlohmann::json(run(base()));
+    return *baseline_;
+  }
   static double per_frame_mean(const nlohmann::json& j, const std::string& name) {
     return j["per_frame"].contains(name) ? j["per_frame"][name]["mean"].get<double>() : 0.0;
   }
@@ -55,12 +62,14 @@ class PipelineSwitches : public ::testing::Test {
 
   static fs::path* dir_;
   static io::Sequence* sequence_;
+  static nlohmann::json* baseline_;
 };
+nlohmann::json* PipelineSwitches::baseline_ = nullptr;
 fs::path* PipelineSwitches::dir_ = nullptr;
 io::Sequence* PipelineSwitches::sequence_ = nullptr;
 
 TEST_F(PipelineSwitches, LinesOffRemovesLinesEverywhere) {
-  const auto on = run(base());
+  const auto& on = baseline();
   EXPECT_GT(on["map"]["lines"].get<int>(), 0);
   EXPECT_GT(per_frame_mean(on, "tracked_lines"), 0.0);
   EXPECT_TRUE(on["timing_ms"].contains("line_tracking"));
@@ -76,26 +85,31 @@ TEST_F(PipelineSwitches, LinesOffRemovesLinesEverywhere) {
 }
 
 TEST_F(PipelineSwitches, LineRedetectionReplacesLineFlow) {
-  const auto flow = run(base());
+  const auto& flow = baseline();
   EXPECT_EQ(count(flow, "line_redetections"), 0);
   VoConfig c = base();
   c.pipeline.line_tracking = "redetect";
   const auto redetect = run(c);
   // Every tracked frame with lines to follow detects lines itself...
-  EXPECT_GT(count(redetect, "line_redetections"), 30);
+  EXPECT_GT(count(redetect, "line_redetections"), 25);
   // ...and still follows lines with it (map lines measured in the pose).
   EXPECT_GT(redetect["map"]["lines"].get<int>(), 0);
   EXPECT_GT(per_frame_mean(redetect, "tracked_lines"), 0.0);
   EXPECT_EQ(redetect["pipeline"]["line_tracking"].get<std::string>(), "redetect");
 }
 
-TEST_F(PipelineSwitches, CrossConstraintDropsCrossingLines) {
-  const auto on = run(base());
+TEST_F(PipelineSwitches, CrossConstraintSwitch) {
+  // With its default thresholds the constraint removes nothing on these clean rendered
+  // frames (no bundles of > 2 shallow overlaps: measured, same line counts on and off); a
+  // strict setting (any shallow overlap counts) shows that the switch gates it.
   VoConfig c = base();
+  c.lines.cross_constraint.max_shallow_overlaps = 0;
+  c.lines.cross_constraint.max_overlap_angle_deg = 30;
+  const auto on = run(c);
   c.lines.cross_constraint.enabled = false;
   const auto off = run(c);
-  // Without the constraint more segments per keyframe survive (crossing ones included).
   EXPECT_GT(per_frame_mean(off, "kf_lines"), per_frame_mean(on, "kf_lines"));
+  EXPECT_FALSE(off["pipeline"]["cross_constraint"].get<bool>());
 }
 
 TEST_F(PipelineSwitches, LineKeyframeTrigger) {
@@ -110,7 +124,7 @@ TEST_F(PipelineSwitches, LineKeyframeTrigger) {
 
 TEST_F(PipelineSwitches, MatcherChoiceForBinaryDescriptors) {
   VoConfig c = base();
-  const auto ratio = run(c);
+  const auto& ratio = baseline();
   EXPECT_EQ(ratio["matcher"].get<std::string>(), "hamming-ratio");
   c.mapping.matcher = "mnn";
   const auto mnn = run(c);
