@@ -90,7 +90,13 @@ std::string summary_table(const ReportInput& in, const PlotSeries& s) {
   };
   row("sequence", str("sequence"));
   row("mode / front end / matcher", str("mode") + " / " + str("frontend") + " / " + str("matcher"));
-  if (j.contains("pipeline")) row("pipeline", j["pipeline"].dump());
+  if (j.contains("pipeline") && j["pipeline"].is_object()) {
+    std::string switches;
+    for (auto it = j["pipeline"].begin(); it != j["pipeline"].end(); ++it)
+      switches += (switches.empty() ? "" : ", ") + it.key() + " " +
+                  (it.value().is_string() ? it.value().get<std::string>() : it.value().dump());
+    row("pipeline", switches);
+  }
   row("frames tracked", str("tracked_frames") + " of " + str("frames"));
   row("keyframes", str("keyframes"));
   row("re-initialisations", str("resets"));
