@@ -1,10 +1,15 @@
 // pllvo run DATASET --out DIR: the visual odometry over a whole sequence.
 #include <cstdio>
+#include <filesystem>
+#include <memory>
 #include <optional>
 
 #include "commands.h"
 #include "pllvo/common/error.h"
 #include "pllvo/io/sequence.h"
+#include "pllvo/report/frame_annotator.h"
+#include "pllvo/report/live_viewer.h"
+#include "pllvo/report/report_page.h"
 #include "pllvo/vo/run_sequence.h"
 #include "pllvo/vo/vo_config.h"
 
@@ -23,6 +28,9 @@ struct RunArgs {
   bool single_thread = false;
   size_t first = 0;
   size_t max_frames = 0;
+  bool report = false;
+  size_t report_frames = 4;
+  bool view = false;
 };
 
 void run(const RunArgs& a) {
@@ -44,6 +52,17 @@ void run(const RunArgs& a) {
   run_options.first_frame = a.first;
   run_options.max_frames = a.max_frames;
   run_options.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  // Only built when asked for: a headless run never opens a window.
+  std::unique_ptr<report::LiveViewer> viewer;
+  if (a.view) viewer = std::make_unique<report::LiveViewer>();
+  const size_t last = a.max_frames ? std::min(sequence->size(), a.first + a.max_frames) : sequence->size();
+  report::FrameSnapshots snapshots(std::filesystem::path(a.out) / "frames", a.first,
+                                   last > a.first ? last - a.first : 0, a.report ? a.report_frames : 0);
+  if (a.view || a.report)
+    run_options.on_frame = [&](const vo::TrackingView& view) {
+      if (viewer) (*viewer)(view);
+      snapshots(view);
+    };
   const auto s = vo::run_sequence(*sequence, config, run_options);
 
   std::printf("%s, %s, %s front end: %zu frames in %.2f s (%.1f frames/s)\n", sequence->format().c_str(),
@@ -62,6 +81,7 @@ void run(const RunArgs& a) {
                 s.error->align == "sim3" ? (", scale " + std::to_string(s.error->scale)).c_str() : "",
                 s.error->percent_of_path, s.error->path_length_m);
   std::printf("outputs: %s/{trajectory.tum, keyframes.tum, stats.json, map.ply}\n", a.out.c_str());
+  if (a.report) std::printf("report: %s\n", report::write_report(a.out).string().c_str());
 }
 
 }  // namespace
@@ -83,6 +103,9 @@ void add_run_command(CLI::App& app) {
                 "process keyframes inline (deterministic; slower)");
   cmd->add_option("--first", args->first, "first frame index");
   cmd->add_option("--max-frames", args->max_frames, "process at most this many frames (0: all)");
+  cmd->add_flag("--report", args->report, "also write DIR/report.html (plots, timing, annotated frames)");
+  cmd->add_option("--report-frames", args->report_frames, "annotated frames in the report (default 4)");
+  cmd->add_flag("--view", args->view, "live window with the tracked points and lines (needs a display)");
   cmd->callback([args] { run(*args); });
 }
 

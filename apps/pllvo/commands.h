@@ -12,6 +12,8 @@ void add_run_command(CLI::App& app);
 void add_synth_command(CLI::App& app);
 void add_extract_command(CLI::App& app);
 void add_match_command(CLI::App& app);
+void add_bench_command(CLI::App& app);
+void add_report_command(CLI::App& app);
 void add_demo_command(CLI::App& app);
 
 }  // namespace pllvo::cli

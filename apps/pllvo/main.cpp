@@ -22,6 +22,8 @@ int main(int argc, char** argv) {
   pllvo::cli::add_synth_command(app);
   pllvo::cli::add_extract_command(app);
   pllvo::cli::add_match_command(app);
+  pllvo::cli::add_bench_command(app);
+  pllvo::cli::add_report_command(app);
   pllvo::cli::add_demo_command(app);
 
   try {

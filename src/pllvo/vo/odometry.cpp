@@ -126,6 +126,7 @@ FrameRecord Odometry::process(const io::Frame& frame) {
 
   if (!pending_keyframe_frames_.empty()) pyramid_buffer_.push(frame.index, pyramid, kMaxBufferedPyramids);
   previous_pyramid_ = pyramid;
+  previous_image_ = left;
   previous_index_ = frame.index;
 
   record.tracked = tracked;
@@ -140,6 +141,18 @@ FrameRecord Odometry::process(const io::Frame& frame) {
   stats_.add_sample("tracked_lines", record.tracked_lines);
   records_.push_back(record);
   return record;
+}
+
+TrackingView Odometry::tracking_view() const {
+  TrackingView view;
+  view.frame_index = previous_index_;
+  view.tracked = !records_.empty() && records_.back().tracked;
+  view.image = previous_image_;
+  if (state_ == TrackingState::kTracking) {
+    view.points = tracks_;
+    view.lines = line_tracks_;
+  }
+  return view;
 }
 
 // ---------------------------------------------------------------- initialisation

@@ -26,6 +26,16 @@ namespace pllvo::vo {
 
 enum class TrackingState { kUninitialized, kTracking };
 
+/// What the tracker holds after a frame: its working image (rectified / undistorted left) and
+/// the points and lines it follows there. For viewers and report frames; a copy of references.
+struct TrackingView {
+  size_t frame_index = 0;
+  bool tracked = false;
+  cv::Mat image;
+  std::vector<TrackedPoint> points;  ///< point != kNoId: a map point; else a candidate
+  std::vector<TrackedLine> lines;    ///< line != kNoId: a map line; else a candidate
+};
+
 class Odometry {
  public:
   /// `use_stereo`: use cam1 when the calibration has one (else monocular).
@@ -51,6 +61,8 @@ class Odometry {
   /// Map in the output world frame.
   MapData map_snapshot() const;
   const RunStats& stats() const { return stats_; }
+  /// The latest processed frame as the tracker sees it.
+  TrackingView tracking_view() const;
 
  private:
   struct MonoReference {
@@ -122,6 +134,7 @@ class Odometry {
   std::vector<TrackedLine> line_tracks_;
   lines::OverlapAngleSet reference_angles_;  ///< of the current keyframe's lines
   ImagePyramid previous_pyramid_;
+  cv::Mat previous_image_;  ///< working left image of the latest frame (tracking_view)
   size_t previous_index_ = 0;
   geometry::Pose T_world_work_;                 ///< latest tracked pose (working camera)
   geometry::Pose velocity_ = geometry::Pose::Identity();  ///< T_prev_cur of the last tracked step

@@ -80,6 +80,7 @@ RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, co
       frame.index = i;
     }
     odometry.process(frame);
+    if (options.on_frame) options.on_frame(odometry.tracking_view());
     const auto now = clock::now();
     if (options.progress && config.run.progress_interval_s > 0 &&
         std::chrono::duration<double>(now - last_progress).count() >= config.run.progress_interval_s) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "pllvo/io/sequence.h"
+#include "pllvo/vo/odometry.h"
 #include "pllvo/vo/run_output.h"
 #include "pllvo/vo/vo_config.h"
 
@@ -20,6 +21,8 @@ struct RunOptions {
   size_t max_frames = 0;  ///< 0: to the end
   /// Receives a progress line every config.run.progress_interval_s of wall time.
   std::function<void(const std::string&)> progress;
+  /// Called after every frame with the tracker's view of it (live viewer, report frames).
+  std::function<void(const TrackingView&)> on_frame;
 };
 
 /// Absolute trajectory error against the sequence's ground truth (evo's APE, translation).
