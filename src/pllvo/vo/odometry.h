@@ -83,6 +83,9 @@ class Odometry {
   /// already follows (same identity as in `job`) and new ones, and brings the new ones up to
   /// the newest buffered frame.
   void prepare_result(const KeyframeJob& job, KeyframeResult& result) const;
+  /// Drops merged tracks whose map point does not project near the track at the latest pose.
+  void drop_inconsistent_tracks(std::vector<TrackedPoint>& tracks, size_t keyframe_frame) const;
+  void drop_inconsistent_lines(std::vector<TrackedLine>& lines) const;
   void start_tracking(const KeyframeResult& result, double timestamp);
   /// Poses of the frames seen during monocular initialisation, by PnP on the new map.
   void localize_init_frames(const MonoReference& ref, const std::vector<std::optional<Eigen::Vector3d>>& points,
