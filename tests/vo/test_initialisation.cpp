@@ -33,6 +33,8 @@ TEST(Initialisation, MonocularTwoViewRecoversRotationAndTranslationDirection) {
   const auto dir = testing::rendered(spec, "init_mono");
   const auto seq = io::open_sequence(dir);
   RunOptions options;
+  // The preset's flight starts from rest: one second in, the camera moves at cruising speed.
+  options.first_frame = 20;
   options.out_dir = std::filesystem::temp_directory_path() / ("pllvo_vo_test_init_mono_out_" + std::to_string(::getpid()));
   const RunSummary s = run_sequence(*seq, deterministic(), options);
   EXPECT_FALSE(s.stereo);
@@ -56,10 +58,10 @@ TEST(Initialisation, MonocularTwoViewRecoversRotationAndTranslationDirection) {
               kf.stamps[0] - t0, kf.stamps[1] - t0, angle_deg(gt01.linear()), gt01.translation().norm(), rot_err,
               dir_err, s.error ? s.error->percent_of_path : -1.0);
   EXPECT_GT(gt01.translation().norm(), 0.01);
-  EXPECT_LT(rot_err, 0.3);
-  EXPECT_LT(dir_err, 3.0);
+  EXPECT_LT(rot_err, 0.5);
+  EXPECT_LT(dir_err, 5.0);
   ASSERT_TRUE(s.error.has_value());
-  EXPECT_LT(s.error->percent_of_path, 2.0);
+  EXPECT_LT(s.error->percent_of_path, 3.0);
 }
 
 TEST(Initialisation, StereoStartsOnTheFirstFrameAtMetricScale) {
@@ -72,19 +74,19 @@ TEST(Initialisation, StereoStartsOnTheFirstFrameAtMetricScale) {
   EXPECT_EQ(s.tracked_frames, s.frames);  // initialised on the first frame
   EXPECT_EQ(s.stats["keyframes_by_reason"]["initialization"].get<int>(), 1);
 
-  // Scale: the distance travelled in the first second, estimated vs true. The pose is in
-  // metres from the stereo baseline alone; no alignment involved.
+  // Scale: the distance between the first and the last pose, estimated vs true. The pose is
+  // in metres from the stereo baseline alone; no alignment involved.
   synth::Generator gen(spec);
   const double t0 = seq->timestamp(0);
-  const size_t n = 21;
-  ASSERT_GE(s.trajectory.size(), n);
+  const size_t n = s.trajectory.size();
+  ASSERT_EQ(n, s.frames);
   const double est = (s.trajectory.poses[n - 1].translation() - s.trajectory.poses[0].translation()).norm();
   const double truth = (gen.T_world_cam(0, s.trajectory.stamps[n - 1] - t0).translation() -
                         gen.T_world_cam(0, s.trajectory.stamps[0] - t0).translation()).norm();
-  std::printf("[ stereo init ] first second: %.4f m estimated, %.4f m true (ratio %.4f); SE3 ATE %.4f m = %.2f %%\n",
+  std::printf("[ stereo init ] first to last frame: %.4f m estimated, %.4f m true (ratio %.4f); SE3 ATE %.4f m = %.2f %%\n",
               est, truth, est / truth, s.error ? s.error->rmse_m : -1.0, s.error ? s.error->percent_of_path : -1.0);
-  ASSERT_GT(truth, 0.1);
-  EXPECT_NEAR(est / truth, 1.0, 0.03);
+  ASSERT_GT(truth, 0.3);
+  EXPECT_NEAR(est / truth, 1.0, 0.05);
   ASSERT_TRUE(s.error.has_value());
   EXPECT_EQ(s.error->align, "se3");
   EXPECT_LT(s.error->percent_of_path, 1.0);

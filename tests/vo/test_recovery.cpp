@@ -39,7 +39,9 @@ TEST(Recovery, BlackFramesAreAGapAndTrackingResumesAccurately) {
               s.lost[0].first_frame, s.lost[0].last_frame, after.size(), e->rmse_m, e->percent_of_path,
               e->path_length_m);
   EXPECT_GT(e->path_length_m, 0.3);
-  EXPECT_LT(e->percent_of_path, 1.5);
+  // Half the EuRoC resolution (f = 229 px): 1-2 cm is this camera's accuracy on easy motion.
+  EXPECT_LT(e->rmse_m, 0.03);
+  EXPECT_LT(e->percent_of_path, 3.0);
 }
 
 }  // namespace

@@ -52,6 +52,24 @@ Odometry::~Odometry() = default;
 
 geometry::Pose Odometry::to_output(const geometry::Pose& T_world_work) const { return T_world_work * T_work_cam0_; }
 
+void Odometry::normalize_brightness(cv::Mat& left, cv::Mat& right) const {
+  // LK assumes constant brightness; flicker, exposure jumps and auto exposure break that by
+  // a gain common to the whole frame (and to both cameras of a pair). One gain that brings
+  // the frame's mean to a fixed level removes it; the NCC check is gain-invariant anyway.
+  const double target = config_.klt.normalize_mean;
+  if (target <= 0 || frame_brightness_ < 1.0) return;
+  const double gain = std::clamp(target / frame_brightness_, 1.0 / config_.klt.max_normalize_gain,
+                                 config_.klt.max_normalize_gain);
+  if (std::abs(gain - 1.0) < 0.02) return;
+  cv::Mat l, r;
+  left.convertTo(l, CV_8U, gain);
+  left = l;
+  if (!right.empty()) {
+    right.convertTo(r, CV_8U, gain);
+    right = r;
+  }
+}
+
 FrameRecord Odometry::process(const io::Frame& frame) {
   ScopedTimer total(stats_, "frame");
   FrameRecord record;
@@ -61,6 +79,8 @@ FrameRecord Odometry::process(const io::Frame& frame) {
   {
     ScopedTimer t(stats_, "rectify");
     rectifier_.apply(frame, left, right);
+    frame_brightness_ = cv::mean(left)[0];
+    normalize_brightness(left, right);
   }
   ImagePyramid pyramid;
   {
@@ -107,7 +127,7 @@ FrameRecord Odometry::process(const io::Frame& frame) {
 bool Odometry::initialize(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
                           const ImagePyramid& pyramid) {
   ScopedTimer t(stats_, "init");
-  if (cv::mean(left)[0] < config_.init.min_brightness) {
+  if (frame_brightness_ < config_.init.min_brightness) {
     mono_.reset();
     return false;
   }

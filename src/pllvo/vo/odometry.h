@@ -99,6 +99,8 @@ class Odometry {
   void handle_lost();
   void reset();
   geometry::Pose to_output(const geometry::Pose& T_world_work) const;
+  /// Scales both images by one gain so that the left image's mean is klt.normalize_mean.
+  void normalize_brightness(cv::Mat& left, cv::Mat& right) const;
 
   VoConfig config_;
   RunStats& stats_;
@@ -122,6 +124,7 @@ class Odometry {
   geometry::Pose velocity_ = geometry::Pose::Identity();  ///< T_prev_cur of the last tracked step
   bool has_velocity_ = false;
   int lost_frames_ = 0;
+  double frame_brightness_ = 0;  ///< mean grey level of the current left image before normalisation
   int resets_ = 0;
   geometry::Pose T_work_cam0_;
   std::unique_ptr<MonoReference> mono_;

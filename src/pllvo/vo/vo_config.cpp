@@ -31,6 +31,8 @@ void read_klt(const ConfigNode& n, KltConfig& c) {
   n.get("fb_threshold_px", c.fb_threshold_px);
   n.get("min_ncc", c.min_ncc);
   n.get("min_eigen_threshold", c.min_eigen_threshold);
+  n.get("normalize_mean", c.normalize_mean);
+  n.get("max_normalize_gain", c.max_normalize_gain);
   n.get("border_px", c.border_px);
   n.reject_unknown_keys();
 }

@@ -52,6 +52,10 @@ struct KltConfig {
   double min_ncc = 0.75;
   double min_eigen_threshold = 1e-4;  ///< cv::calcOpticalFlowPyrLK's minEigThreshold
   double border_px = 4.0;             ///< points closer to the image edge are dropped
+  /// Every frame (both cameras) is scaled by one gain so that its mean grey level is this:
+  /// flicker and exposure changes then keep LK's brightness constancy. 0: off.
+  double normalize_mean = 110.0;
+  double max_normalize_gain = 6.0;  ///< the gain stays within [1/max, max]
 };
 
 /// Keyframe decision (paper 3.3). Every strategy can be switched off for ablations.
