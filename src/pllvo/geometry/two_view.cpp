@@ -311,7 +311,14 @@ TwoViewResult initialise_two_view(std::span<const Eigen::Vector2d> xy0,
     score_essential(hat(refined.t) * refined.R, xy0, xy1, focal_px, config.sigma_px, refined_inliers);
   }
   evaluate(refined, xy0, xy1, refined_inliers, max_error, config);
-  const bool use_refined = refined.good >= best.good * config.min_good_fraction;
+  // The refinement may slide a weakly determined translation (small parallax, homography
+  // start) to a motion that explains the matches but triangulates nothing: keep it only when
+  // it still passes the same checks as the RANSAC winner.
+  const int refined_triangulated =
+      static_cast<int>(std::count(refined.triangulated.begin(), refined.triangulated.end(), 1));
+  const bool use_refined = refined.good >= best.good * config.min_good_fraction &&
+                           refined.median_parallax_deg >= config.min_median_parallax_deg &&
+                           refined_triangulated >= config.min_triangulated;
   const Candidate& final_motion = use_refined ? refined : best;
   if (use_refined) out.inliers = refined_inliers;
   out.ok = true;

@@ -1,6 +1,7 @@
 #include "pllvo/vo/geometry_adapter.h"
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <map>
 #include <set>
@@ -125,12 +126,19 @@ std::optional<Eigen::Vector3d> triangulate_stereo(const Pinhole& cam, double bas
   return s.p_left;
 }
 
-WindowBaResult bundle_adjust_window(Map& map, const Pinhole& cam, const std::vector<Id>& window, int max_anchors,
+WindowBaResult bundle_adjust_window(Map& map, const Pinhole& cam, double baseline, const std::vector<Id>& window,
+                                    int max_anchors,
                                     const backend::BundleAdjustmentConfig& config) {
   WindowBaResult result;
   if (window.size() < 2) return result;
   backend::BaProblem problem;
   problem.focal_px = cam.focal();
+  if (baseline > 0) {
+    // Rectified pair: the right camera sits at +baseline along the left camera's x axis.
+    geometry::Pose T_cam1_cam0 = geometry::Pose::Identity();
+    T_cam1_cam0.translation() = Eigen::Vector3d(-baseline, 0, 0);
+    problem.T_cam_cam0 = {geometry::Pose::Identity(), T_cam1_cam0};
+  }
   std::vector<Id> keyframes, points, lines;
   std::vector<Observation> point_refs, line_refs;  // (keyframe, feature/line index) per observation
 
@@ -186,6 +194,11 @@ WindowBaResult bundle_adjust_window(Map& map, const Pinhole& cam, const std::vec
         const Eigen::Vector2d px(kf.features.points[i].x, kf.features.points[i].y);
         problem.point_observations.push_back({kf_index[k], it->second, 0, cam.normalised(px)});
         point_refs.push_back({k, static_cast<int>(i)});
+        if (baseline > 0 && i < kf.right_points.size() && !std::isnan(kf.right_points[i].x)) {
+          const Eigen::Vector2d rpx(kf.right_points[i].x, kf.right_points[i].y);
+          problem.point_observations.push_back({kf_index[k], it->second, 1, cam.normalised(rpx)});
+          point_refs.push_back({k, static_cast<int>(i)});
+        }
       }
       for (size_t i = 0; i < kf.line_ids.size(); ++i) {
         auto it = line_index.find(kf.line_ids[i]);
@@ -219,7 +232,9 @@ WindowBaResult bundle_adjust_window(Map& map, const Pinhole& cam, const std::vec
       if (!summary.point_outliers[j]) continue;
       const Observation& o = point_refs[j];
       const Id p = points[problem.point_observations[j].point];
-      m.unobserve_point(p, o.keyframe, o.index);
+      auto& right = m.keyframes.at(o.keyframe).right_points;
+      if (o.index < static_cast<int>(right.size())) right[o.index] = cv::Point2f(NAN, NAN);
+      if (problem.point_observations[j].camera == 0) m.unobserve_point(p, o.keyframe, o.index);
       ++result.point_outliers;
     }
     for (size_t j = 0; j < line_refs.size(); ++j) {

@@ -88,7 +88,10 @@ struct WindowBaResult {
 /// `max_anchors` older keyframes of the same segment that see the window's points. Reads the
 /// map under its lock, solves without it (only the worker writes the map, so nothing changes
 /// meanwhile), then writes poses, points and lines back and unlinks outlier observations.
-WindowBaResult bundle_adjust_window(Map& map, const Pinhole& cam, const std::vector<Id>& window, int max_anchors,
+/// `baseline` > 0: keyframes' right-image points join as observations of the rectified
+/// right camera (metric scale in the window).
+WindowBaResult bundle_adjust_window(Map& map, const Pinhole& cam, double baseline, const std::vector<Id>& window,
+                                    int max_anchors,
                                     const backend::BundleAdjustmentConfig& config);
 
 }  // namespace pllvo::vo

@@ -72,22 +72,26 @@ void KeyframeProcessor::start_segment() {
 
 std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::stereo_points(const KeyframeJob& job,
                                                                             const PointFeatures& features,
-                                                                            const std::vector<Id>& ids) {
+                                                                            const std::vector<Id>& ids,
+                                                                            std::vector<cv::Point2f>& right_px) {
   ScopedTimer t(stats_, "kf_stereo");
   std::vector<std::optional<Eigen::Vector3d>> out(features.size());
+  right_px.assign(features.size(), cv::Point2f(NAN, NAN));
   if (job.right.empty()) return out;
   std::vector<int> which;
   std::vector<cv::Point2f> pts;
-  for (int i = 0; i < static_cast<int>(features.size()); ++i)
-    if (ids[i] == kNoId) which.push_back(i), pts.push_back(features.points[i]);
+  for (int i = 0; i < static_cast<int>(features.size()); ++i) which.push_back(i), pts.push_back(features.points[i]);
   if (pts.empty()) return out;
   const ImagePyramid left = job.left_pyramid.empty() ? stereo_tracker_.build_pyramid(job.left) : job.left_pyramid;
   const ImagePyramid right = stereo_tracker_.build_pyramid(job.right);
   const TrackResult tr = stereo_tracker_.track(left, right, pts);
   for (size_t k = 0; k < which.size(); ++k) {
     if (!tr.ok[k]) continue;
-    out[which[k]] = triangulate_stereo(camera_, baseline_, to_eigen(pts[k]), to_eigen(tr.points[k]),
-                                       config_.geometry.stereo);
+    const auto p = triangulate_stereo(camera_, baseline_, to_eigen(pts[k]), to_eigen(tr.points[k]),
+                                      config_.geometry.stereo);
+    if (!p) continue;
+    right_px[which[k]] = tr.points[k];
+    if (ids[which[k]] == kNoId) out[which[k]] = p;
   }
   return out;
 }
@@ -202,7 +206,8 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job) {
   }
 
   std::vector<std::optional<Eigen::Vector3d>> stereo(n);
-  if (!job.right.empty()) stereo = stereo_points(job, features, ids);
+  std::vector<cv::Point2f> right_px;
+  if (!job.right.empty()) stereo = stereo_points(job, features, ids, right_px);
   std::vector<std::optional<Eigen::Vector3d>> triangulated(n);
   {
     ScopedTimer t(stats_, "kf_triangulate");
@@ -241,6 +246,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job) {
     kf.segment = segment_;
     kf.features = features;
     kf.origins = origins;
+    kf.right_points = std::move(right_px);
     kid = m.add_keyframe(std::move(kf));
     // Links an earlier keyframe's feature to a new point unless it already has one.
     auto link_earlier = [&](Id pid, const Observation& o) {
@@ -282,7 +288,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job) {
     const size_t window = static_cast<size_t>(config_.backend.bundle_adjustment.window_size);
     const std::vector<Id> ids_window(segment_keyframes_.end() - std::min(window, segment_keyframes_.size()),
                                      segment_keyframes_.end());
-    const auto ba = bundle_adjust_window(map_, camera_, ids_window, config_.mapping.max_anchor_keyframes,
+    const auto ba = bundle_adjust_window(map_, camera_, baseline_, ids_window, config_.mapping.max_anchor_keyframes,
                                          config_.backend.bundle_adjustment);
     if (ba.ran) {
       stats_.add_sample("ba_rms_px", ba.final_rms_px);

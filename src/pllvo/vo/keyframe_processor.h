@@ -81,8 +81,11 @@ class KeyframeProcessor {
 
  private:
   geometry::Pose current_pose(const KeyframeJob& job);
+  /// New points from the stereo pair for features without a map point; `right_px` gets the
+  /// right-image position of every feature with a valid stereo match (NaN elsewhere).
   std::vector<std::optional<Eigen::Vector3d>> stereo_points(const KeyframeJob& job, const PointFeatures& features,
-                                                            const std::vector<Id>& ids);
+                                                            const std::vector<Id>& ids,
+                                                            std::vector<cv::Point2f>& right_px);
 
   VoConfig config_;
   Pinhole camera_;

@@ -40,6 +40,9 @@ struct Keyframe {
   /// Per feature without a map point: the first keyframe observation of the same point
   /// (through matches), so triangulation can use the widest baseline seen so far.
   std::vector<Observation> origins;
+  /// Stereo: per feature, its position in the rectified right image (NaN: no stereo match).
+  /// The bundle adjustment uses them as observations of camera 1, which fixes the metric scale.
+  std::vector<cv::Point2f> right_points;
   std::vector<Segment2d> lines;    ///< detected line segments (left image)
   std::vector<Id> line_ids;        ///< per line: its map line, or kNoId
   std::vector<Observation> line_origins;  ///< per line without a map line: its first keyframe observation

@@ -92,6 +92,24 @@ Odometry::~Odometry() = default;
 
 geometry::Pose Odometry::to_output(const geometry::Pose& T_world_work) const { return T_world_work * T_work_cam0_; }
 
+void Odometry::normalize_brightness(cv::Mat& left, cv::Mat& right) const {
+  // LK assumes constant brightness; flicker, exposure jumps and auto exposure break that by
+  // a gain common to the whole frame (and to both cameras of a pair). One gain that brings
+  // the frame's mean to a fixed level removes it; the NCC check is gain-invariant anyway.
+  const double target = config_.klt.normalize_mean;
+  if (target <= 0 || frame_brightness_ < 1.0) return;
+  const double gain = std::clamp(target / frame_brightness_, 1.0 / config_.klt.max_normalize_gain,
+                                 config_.klt.max_normalize_gain);
+  if (std::abs(gain - 1.0) < 0.02) return;
+  cv::Mat l, r;
+  left.convertTo(l, CV_8U, gain);
+  left = l;
+  if (!right.empty()) {
+    right.convertTo(r, CV_8U, gain);
+    right = r;
+  }
+}
+
 FrameRecord Odometry::process(const io::Frame& frame) {
   ScopedTimer total(stats_, "frame");
   FrameRecord record;
@@ -101,6 +119,8 @@ FrameRecord Odometry::process(const io::Frame& frame) {
   {
     ScopedTimer t(stats_, "rectify");
     rectifier_.apply(frame, left, right);
+    frame_brightness_ = cv::mean(left)[0];
+    normalize_brightness(left, right);
   }
   ImagePyramid pyramid;
   {
@@ -160,7 +180,7 @@ TrackingView Odometry::tracking_view() const {
 bool Odometry::initialize(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
                           const ImagePyramid& pyramid) {
   ScopedTimer t(stats_, "init");
-  if (cv::mean(left)[0] < config_.init.min_brightness) {
+  if (frame_brightness_ < config_.init.min_brightness) {
     mono_.reset();
     return false;
   }
@@ -268,6 +288,10 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
     second_px[i] = tr.points[k];
     if (two_view.points_cam0[j]) ref_points[i] = T_world_ref * *two_view.points_cam0[j], ++made;
     ++j;
+  }
+  if (made < config_.init.min_points) {
+    spdlog::debug("frame {}: two-view initialisation triangulated only {} points", frame.index, made);
+    return false;
   }
   KeyframeJob reference;
   reference.frame_index = ref.frame_index;
@@ -414,6 +438,14 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     std::optional<geometry::Pose> predicted;
     if (config_.pose.use_motion_prior && has_velocity_) predicted = T_world_pred;
     estimate = estimate_pose(camera_, pts, px, line_measurements, predicted, config_.geometry, config_.backend);
+    if (!estimate.ok && predicted && config_.pose.min_inliers_with_prior > 0) {
+      // Too few points for PnP (a textureless stretch): the constant-velocity prediction
+      // carries the pose while a few observations still agree with it.
+      backend::BackendConfig weak = config_.backend;
+      weak.pose_refiner.min_inliers = config_.pose.min_inliers_with_prior;
+      estimate = estimate_pose(camera_, pts, px, line_measurements, predicted, config_.geometry, weak);
+      if (estimate.ok) stats_.add_count("prior_supported_poses");
+    }
   }
 
   // Keep the tracks that survived KLT (and, on success, the pose's inlier test); candidates
@@ -474,8 +506,17 @@ void Odometry::maybe_make_keyframe(const io::Frame& frame, const cv::Mat& left, 
   const KeyframeReason reason = policy_.decide(state);
   if (reason == KeyframeReason::kNone) return;
   if (worker_.pending() >= kMaxPendingKeyframes) {
-    stats_.add_count("keyframes_deferred");
-    return;
+    const bool degrading = reason == KeyframeReason::kFewPoints || reason == KeyframeReason::kTrackingQuality;
+    if (!(degrading && config_.run.wait_when_starving)) {
+      stats_.add_count("keyframes_deferred");
+      return;
+    }
+    // Tracking is running out of points and the back end is behind: with offline input,
+    // waiting for it costs throughput only, while tracking on keeps thinning the points
+    // until the pose drifts or is lost.
+    ScopedTimer wait(stats_, "starved_wait");
+    worker_.wait_idle();
+    stats_.add_count("starved_waits");
   }
   KeyframeJob job = make_keyframe_job(frame, left, right, pyramid, reason);
   job.tracks = tracks_;
@@ -644,6 +685,8 @@ void Odometry::apply_keyframe_results() {
       if (!point_taken[i] && tracks_[i].point != kNoId) merged.push_back(tracks_[i]);
     for (size_t i = 0; i < line_tracks_.size(); ++i)
       if (!line_taken[i] && line_tracks_[i].line != kNoId) merged_lines.push_back(line_tracks_[i]);
+    drop_inconsistent_tracks(merged, result.frame_index);
+    drop_inconsistent_lines(merged_lines);
     tracks_ = std::move(merged);
     policy_.set_reference_points(count_mapped(tracks_));
     if (use_lines_) {
@@ -655,6 +698,70 @@ void Odometry::apply_keyframe_results() {
     pyramid_buffer_.clear();
   else
     pyramid_buffer_.drop_before(*pending_keyframe_frames_.begin());
+}
+
+void Odometry::drop_inconsistent_tracks(std::vector<TrackedPoint>& tracks, size_t keyframe_frame) const {
+  // The tracker's latest pose comes from the points it already follows; a keyframe that
+  // comes back late brings points triangulated at its own pose and followed over the frames
+  // since. Those that do not project near where they are tracked now (a drifted follow, a
+  // point triangulated from a wrong match) would split the next PnP into two consensus sets
+  // and make the pose jump: they are dropped.
+  const double gate = config_.pose.merge_gate_px;
+  if (gate <= 0) return;
+  const geometry::Pose T_work_world = T_world_work_.inverse();
+  std::vector<double> errors;
+  std::vector<TrackedPoint> kept;
+  kept.reserve(tracks.size());
+  map_.read([&](const MapData& m) {
+    for (auto& t : tracks) {
+      auto it = t.point == kNoId ? m.points.end() : m.points.find(t.point);
+      if (it == m.points.end()) {
+        kept.push_back(t);
+        continue;
+      }
+      Eigen::Vector2d uv;
+      const double e = camera_.project(T_work_world * it->second.position, uv) ? (uv - to_eigen(t.px)).norm() : 1e9;
+      errors.push_back(e);
+      if (e <= gate) kept.push_back(t);
+    }
+  });
+  spdlog::debug("keyframe of frame {} merged at frame {}: {} of {} map points within {} px (median {:.2f} px)",
+                keyframe_frame, previous_index_, kept.size(), tracks.size(), gate, median(errors));
+  stats_.add_count("merge_dropped_points", static_cast<long long>(tracks.size() - kept.size()));
+  tracks = std::move(kept);
+}
+
+void Odometry::drop_inconsistent_lines(std::vector<TrackedLine>& lines) const {
+  // As for points: a late keyframe's lines were followed without a pose prediction.
+  const double gate = config_.pose.merge_gate_px;
+  if (gate <= 0) return;
+  const geometry::Pose T_work_world = T_world_work_.inverse();
+  std::vector<TrackedLine> kept;
+  kept.reserve(lines.size());
+  size_t dropped = 0;
+  map_.read([&](const MapData& m) {
+    for (auto& l : lines) {
+      auto it = l.line == kNoId ? m.lines.end() : m.lines.find(l.line);
+      if (it == m.lines.end()) {
+        kept.push_back(l);
+        continue;
+      }
+      Eigen::Vector2d a, b;
+      const Eigen::Vector2d d = l.segment.end - l.segment.start;
+      bool ok = d.norm() > 1 && camera_.project(T_work_world * it->second.p, a) &&
+                camera_.project(T_work_world * it->second.q, b);
+      if (ok) {
+        const Eigen::Vector2d n(-d.y() / d.norm(), d.x() / d.norm());
+        ok = std::abs(n.dot(a - l.segment.start)) <= gate && std::abs(n.dot(b - l.segment.start)) <= gate;
+      }
+      if (ok)
+        kept.push_back(l);
+      else
+        ++dropped;
+    }
+  });
+  stats_.add_count("merge_dropped_lines", static_cast<long long>(dropped));
+  lines = std::move(kept);
 }
 
 std::vector<TrackedLine> Odometry::track_lines(const ImagePyramid& from, const ImagePyramid& to,

@@ -100,6 +100,9 @@ class Odometry {
   /// already follows (same identity as in `job`) and new ones, and brings the new ones up to
   /// the newest buffered frame.
   void prepare_result(const KeyframeJob& job, KeyframeResult& result) const;
+  /// Drops merged tracks whose map point does not project near the track at the latest pose.
+  void drop_inconsistent_tracks(std::vector<TrackedPoint>& tracks, size_t keyframe_frame) const;
+  void drop_inconsistent_lines(std::vector<TrackedLine>& lines) const;
   void start_tracking(const KeyframeResult& result, double timestamp);
   /// Poses of the frames seen during monocular initialisation, by PnP on the new map.
   void localize_init_frames(const MonoReference& ref, const std::vector<std::optional<Eigen::Vector3d>>& points,
@@ -114,6 +117,8 @@ class Odometry {
   void handle_lost();
   void reset();
   geometry::Pose to_output(const geometry::Pose& T_world_work) const;
+  /// Scales both images by one gain so that the left image's mean is klt.normalize_mean.
+  void normalize_brightness(cv::Mat& left, cv::Mat& right) const;
 
   VoConfig config_;
   RunStats& stats_;
@@ -140,6 +145,7 @@ class Odometry {
   geometry::Pose velocity_ = geometry::Pose::Identity();  ///< T_prev_cur of the last tracked step
   bool has_velocity_ = false;
   int lost_frames_ = 0;
+  double frame_brightness_ = 0;  ///< mean grey level of the current left image before normalisation
   int resets_ = 0;
   geometry::Pose T_work_cam0_;
   std::unique_ptr<MonoReference> mono_;

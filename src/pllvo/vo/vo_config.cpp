@@ -32,6 +32,8 @@ void read_klt(const ConfigNode& n, KltConfig& c) {
   n.get("fb_threshold_px", c.fb_threshold_px);
   n.get("min_ncc", c.min_ncc);
   n.get("min_eigen_threshold", c.min_eigen_threshold);
+  n.get("normalize_mean", c.normalize_mean);
+  n.get("max_normalize_gain", c.max_normalize_gain);
   n.get("border_px", c.border_px);
   n.reject_unknown_keys();
 }
@@ -62,6 +64,8 @@ void read_pose(const ConfigNode& n, PoseConfig& c) {
   n.get("use_lines", c.use_lines);
   n.get("use_motion_prior", c.use_motion_prior);
   n.get("lost_frames_before_reset", c.lost_frames_before_reset);
+  n.get("merge_gate_px", c.merge_gate_px);
+  n.get("min_inliers_with_prior", c.min_inliers_with_prior);
   n.reject_unknown_keys();
 }
 

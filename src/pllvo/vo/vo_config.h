@@ -57,6 +57,10 @@ struct KltConfig {
   double min_ncc = 0.75;
   double min_eigen_threshold = 1e-4;  ///< cv::calcOpticalFlowPyrLK's minEigThreshold
   double border_px = 4.0;             ///< points closer to the image edge are dropped
+  /// Every frame (both cameras) is scaled by one gain so that its mean grey level is this:
+  /// flicker and exposure changes then keep LK's brightness constancy. 0: off.
+  double normalize_mean = 110.0;
+  double max_normalize_gain = 6.0;  ///< the gain stays within [1/max, max]
 };
 
 /// Keyframe decision (paper 3.3). Every strategy can be switched off for ablations.
@@ -96,6 +100,14 @@ struct PoseConfig {
   bool use_lines = true;          ///< line residuals in the refinement
   bool use_motion_prior = true;   ///< predict with the last velocity (constant velocity)
   int lost_frames_before_reset = 3;  ///< consecutive failures before re-initialising
+  /// When a keyframe's points join the tracker, those whose map point projects farther than
+  /// this (pixels) from the track at the latest pose are dropped (0: off). Late keyframes
+  /// (threaded mode) otherwise bring inconsistent points that make the pose jump: EuRoC at
+  /// rest, threaded, moves 1.4-1.6 mm with 4 px and 3.5-10.6 mm without (docs/vo.md).
+  double merge_gate_px = 4.0;
+  /// When PnP / the refinement fail for want of points, a pose is still accepted from the
+  /// motion prior plus at least this many agreeing observations (points + lines); 0: off.
+  int min_inliers_with_prior = 5;
 };
 
 /// Keyframe processing on the worker: matching, triangulation (geometry.point_triangulation,
@@ -129,7 +141,8 @@ struct RunConfig {
   /// Threaded mode, offline input: when fewer map points are tracked than
   /// keyframes.min_tracked_points while a keyframe is still being processed, the frame waits
   /// for it instead of losing track (a live camera would drop frames then). Counted in
-  /// stats.json as `starved_waits`. Off: tracking never waits.
+  /// stats.json as `starved_waits`. Likewise when the point trigger (few points, tracking
+  /// quality) asks for a keyframe while the worker's queue is full. Off: tracking never waits.
   bool wait_when_starving = true;
   double progress_interval_s = 2.0;  ///< wall time between progress lines (0: none)
 };

@@ -1,0 +1,68 @@
+#pragma once
+// Small synthetic sequences for the VO tests: a suite preset at half the EuRoC resolution
+// (376 x 240, ideal pinhole, no motion blur) and a few seconds long, so that rendering stays
+// cheap. Each sequence is rendered once per test program into the temp folder.
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <unistd.h>
+
+#include "pllvo/io/sequence.h"
+#include "pllvo/synth/sequence_writer.h"
+#include "pllvo/synth/spec.h"
+
+namespace pllvo::vo::testing {
+
+inline synth::SequenceSpec small_spec(const std::string& preset, double duration_s, bool stereo) {
+  synth::SequenceSpec spec = synth::preset(preset);
+  spec.duration_s = duration_s;
+  spec.camera.width = 376;
+  spec.camera.height = 240;
+  spec.camera.fx /= 2, spec.camera.fy /= 2, spec.camera.cx /= 2, spec.camera.cy /= 2;
+  spec.camera.distortion.clear();
+  spec.camera.stereo = stereo;
+  spec.sensor.motion_blur = false;
+  return spec;
+}
+
+/// Renders `spec` (once per process and tag) and returns its folder.
+inline std::filesystem::path rendered(const synth::SequenceSpec& spec, const std::string& tag) {
+  static std::map<std::string, std::filesystem::path> cache;
+  auto it = cache.find(tag);
+  if (it != cache.end()) return it->second;
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("pllvo_vo_test_" + tag + "_" + std::to_string(::getpid()));
+  synth::WriteOptions options;
+  options.overwrite = true;
+  synth::write_sequence(spec, dir, options);
+  cache[tag] = dir;
+  return dir;
+}
+
+/// A sequence whose frames [first, last] are black (a covered lens, a light switched off).
+class BlackedOutSequence : public io::Sequence {
+ public:
+  BlackedOutSequence(std::unique_ptr<io::Sequence> inner, size_t first, size_t last)
+      : io::Sequence(inner->root()), inner_(std::move(inner)), first_(first), last_(last) {
+    calib_ = inner_->calibration();
+    stamps_ = inner_->timestamps();
+    ground_truth_ = inner_->ground_truth();
+  }
+  std::string format() const override { return inner_->format(); }
+  io::Frame frame(size_t i) const override {
+    io::Frame f = inner_->frame(i);
+    if (i >= first_ && i <= last_) {
+      f.left.setTo(0);
+      if (!f.right.empty()) f.right.setTo(0);
+    }
+    return f;
+  }
+
+ private:
+  std::unique_ptr<io::Sequence> inner_;
+  size_t first_, last_;
+};
+
+}  // namespace pllvo::vo::testing

@@ -1,0 +1,101 @@
+// Initialisation against synthetic ground truth: monocular two-view (relative rotation and
+// translation direction of the two initial keyframes) and stereo (metric scale from the
+// rectified pair). Sequences: the easy_normal preset at 376 x 240, rendered in the test.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "pllvo/io/trajectory.h"
+#include "pllvo/synth/generator.h"
+#include "pllvo/vo/run_sequence.h"
+#include "synthetic_sequence.h"
+
+namespace pllvo::vo {
+namespace {
+
+VoConfig deterministic() {
+  VoConfig c;
+  c.run.threaded = false;
+  c.run.progress_interval_s = 0;
+  return c;
+}
+
+double angle_deg(const Eigen::Matrix3d& R) {
+  return Eigen::AngleAxisd(R).angle() * 180.0 / M_PI;
+}
+
+double angle_between_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180.0 / M_PI;
+}
+
+TEST(Initialisation, MonocularTwoViewRecoversRotationAndTranslationDirection) {
+  const auto spec = testing::small_spec("easy_normal", 3.0, false);
+  const auto dir = testing::rendered(spec, "init_mono");
+  const auto seq = io::open_sequence(dir);
+  RunOptions options;
+  // The preset's flight starts from rest: one second in, the camera moves at cruising speed.
+  options.first_frame = 20;
+  options.out_dir = std::filesystem::temp_directory_path() / ("pllvo_vo_test_init_mono_out_" + std::to_string(::getpid()));
+  const RunSummary s = run_sequence(*seq, deterministic(), options);
+  EXPECT_FALSE(s.stereo);
+  EXPECT_EQ(s.resets, 0);
+  EXPECT_EQ(s.tracked_frames, s.frames);  // frames before the two-view step get poses too
+  ASSERT_GE(s.stats["keyframes_by_reason"]["initialization"].get<int>(), 2);
+
+  // The first two keyframes are the two views of the initialisation.
+  const io::Trajectory kf = io::read_tum(options.out_dir / "keyframes.tum");
+  std::filesystem::remove_all(options.out_dir);
+  ASSERT_GE(kf.size(), 2u);
+  synth::Generator gen(spec);
+  const double t0 = seq->timestamp(0);
+  const Eigen::Isometry3d gt0 = gen.T_world_cam(0, kf.stamps[0] - t0), gt1 = gen.T_world_cam(0, kf.stamps[1] - t0);
+  const Eigen::Isometry3d est01 = kf.poses[0].inverse() * kf.poses[1];
+  const Eigen::Isometry3d gt01 = gt0.inverse() * gt1;
+  const double rot_err = angle_deg(est01.linear().transpose() * gt01.linear());
+  const double dir_err = angle_between_deg(est01.translation(), gt01.translation());
+  std::printf("[ mono init ] views %.2f-%.2f s: true rotation %.2f deg, baseline %.3f m; error %.3f deg, "
+              "direction %.2f deg; sim3 ATE %.2f %% of the path\n",
+              kf.stamps[0] - t0, kf.stamps[1] - t0, angle_deg(gt01.linear()), gt01.translation().norm(), rot_err,
+              dir_err, s.error ? s.error->percent_of_path : -1.0);
+  EXPECT_GT(gt01.translation().norm(), 0.01);
+  // Measured (session 2): 0.47 deg and 14.6 deg at this half resolution. The direction is
+  // far from the two-view's accuracy on ideal points (< 1 deg, tests/geometry); the bounds
+  // catch a wrong decomposition (tens of degrees) and keep what is reached now. See docs/vo.md.
+  EXPECT_LT(rot_err, 1.0);
+  EXPECT_LT(dir_err, 20.0);
+  ASSERT_TRUE(s.error.has_value());
+  EXPECT_LT(s.error->percent_of_path, 3.0);
+}
+
+TEST(Initialisation, StereoStartsOnTheFirstFrameAtMetricScale) {
+  const auto spec = testing::small_spec("easy_normal", 3.0, true);
+  const auto dir = testing::rendered(spec, "init_stereo");
+  const auto seq = io::open_sequence(dir);
+  const RunSummary s = run_sequence(*seq, deterministic(), {});
+  EXPECT_TRUE(s.stereo);
+  EXPECT_EQ(s.resets, 0);
+  EXPECT_EQ(s.tracked_frames, s.frames);  // initialised on the first frame
+  EXPECT_EQ(s.stats["keyframes_by_reason"]["initialization"].get<int>(), 1);
+
+  // Scale: the distance between the first and the last pose, estimated vs true. The pose is
+  // in metres from the stereo baseline alone; no alignment involved.
+  synth::Generator gen(spec);
+  const double t0 = seq->timestamp(0);
+  const size_t n = s.trajectory.size();
+  ASSERT_EQ(n, s.frames);
+  const double est = (s.trajectory.poses[n - 1].translation() - s.trajectory.poses[0].translation()).norm();
+  const double truth = (gen.T_world_cam(0, s.trajectory.stamps[n - 1] - t0).translation() -
+                        gen.T_world_cam(0, s.trajectory.stamps[0] - t0).translation()).norm();
+  std::printf("[ stereo init ] first to last frame: %.4f m estimated, %.4f m true (ratio %.4f); SE3 ATE %.4f m = %.2f %%\n",
+              est, truth, est / truth, s.error ? s.error->rmse_m : -1.0, s.error ? s.error->percent_of_path : -1.0);
+  ASSERT_GT(truth, 0.3);
+  EXPECT_NEAR(est / truth, 1.0, 0.05);
+  ASSERT_TRUE(s.error.has_value());
+  EXPECT_EQ(s.error->align, "se3");
+  // Measured (session 2): 0.016 m = 2.2 % of 0.74 m at half the EuRoC resolution (f = 229 px).
+  EXPECT_LT(s.error->rmse_m, 0.025);
+  EXPECT_LT(s.error->percent_of_path, 3.0);
+}
+
+}  // namespace
+}  // namespace pllvo::vo
