@@ -8,6 +8,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 namespace fs = std::filesystem;
@@ -29,7 +30,8 @@ CliResult run_cli(const std::string& args, const std::string& env = "") {
   return r;
 }
 
-const fs::path kRoot = fs::temp_directory_path() / "pllvo_report_cli";
+// Per process: CTest runs these tests in parallel processes.
+const fs::path kRoot = fs::temp_directory_path() / ("pllvo_report_cli_" + std::to_string(::getpid()));
 const std::string kMethods = std::string(" --methods-file ") + PLLVO_SOURCE_DIR + "/config/bench.yaml";
 
 TEST(BenchCli, BadInputIsOneMessageAndExitCode2) {

@@ -1,6 +1,8 @@
 // The ablation / baseline switches of VoConfig (what `pllvo bench` varies) each change what
 // the pipeline does, seen in stats.json, on one short rendered stereo sequence
 // (easy_normal, 2 s), deterministic single-thread mode.
+#include <unistd.h>
+
 #include <filesystem>
 
 #include <gtest/gtest.h>
@@ -20,7 +22,8 @@ namespace fs = std::filesystem;
 class PipelineSwitches : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new fs::path(fs::temp_directory_path() / "pllvo_vo_switches_easy_normal");
+    // One folder per process: CTest runs each test of this suite in its own process, in parallel.
+    dir_ = new fs::path(fs::temp_directory_path() / ("pllvo_vo_switches_easy_normal_" + std::to_string(::getpid())));
     fs::remove_all(*dir_);
     synth::SequenceSpec spec = synth::preset("easy_normal");
     spec.duration_s = 2;
