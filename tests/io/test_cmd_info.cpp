@@ -6,26 +6,13 @@
 #include <string>
 
 #include "dataset_test_utils.h"
+#include "../support/cli_runner.h"
 
 using namespace pllvo::io::testing;
 
 namespace {
 
-struct Run {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr
-};
-
-Run run_cli(const std::string& args) {
-  Run r;
-  FILE* pipe = ::popen((std::string(PLLVO_CLI_PATH) + " " + args + " 2>&1").c_str(), "r");
-  if (!pipe) return r;
-  char buf[4096];
-  for (size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) r.output.append(buf, n);
-  const int status = ::pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using pllvo::test::run_cli;
 
 bool has_line(const std::string& out, const std::string& name, const std::string& value_start) {
   for (size_t pos = 0; (pos = out.find(name, pos)) != std::string::npos; ++pos) {

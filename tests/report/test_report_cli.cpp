@@ -10,25 +10,13 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 #include <nlohmann/json.hpp>
+#include "../support/cli_runner.h"
 
 namespace fs = std::filesystem;
 namespace {
 
-struct CliResult {
-  int exit_code = -1;
-  std::string output;  ///< stdout and stderr
-};
-
-CliResult run_cli(const std::string& args, const std::string& env = "") {
-  const std::string command = env + " " + std::string(PLLVO_CLI_PATH) + " " + args + " 2>&1";
-  CliResult r;
-  FILE* pipe = popen(command.c_str(), "r");
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), buf.size(), pipe)) r.output += buf.data();
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using pllvo::test::CliResult;
+using pllvo::test::run_cli;
 
 // Per process: CTest runs these tests in parallel processes.
 const fs::path kRoot = fs::temp_directory_path() / ("pllvo_report_cli_" + std::to_string(::getpid()));

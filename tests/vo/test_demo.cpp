@@ -8,26 +8,14 @@
 
 #include <gtest/gtest.h>
 
+#include "../support/cli_runner.h"
 #include "pllvo/vo/point_frontend.h"
 
 namespace fs = std::filesystem;
 namespace {
 
-struct CliResult {
-  int exit_code = -1;
-  std::string output;
-};
-
-CliResult run_cli(const std::string& args) {
-  const std::string command = std::string(PLLVO_CLI_PATH) + " " + args + " 2>&1";
-  CliResult r;
-  FILE* pipe = popen(command.c_str(), "r");
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), buf.size(), pipe)) r.output += buf.data();
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using pllvo::test::CliResult;
+using pllvo::test::run_cli;
 
 TEST(DemoCli, RendersRunsAndReportsAteAndSpeed) {
   const fs::path out = fs::temp_directory_path() / "pllvo_vo_demo_cli";
