@@ -1,7 +1,8 @@
 #pragma once
-// Small synthetic sequences for the VO tests: a suite preset at half the EuRoC resolution
-// (376 x 240, ideal pinhole, no motion blur) and a few seconds long, so that rendering stays
-// cheap. Each sequence is rendered once per test program into the temp folder.
+// Helpers of the end-to-end VO tests: the deterministic single-thread configuration; small
+// synthetic sequences (a suite preset at half the EuRoC resolution: 376 x 240, ideal pinhole, no
+// motion blur, a few seconds long, so that rendering stays cheap; each rendered once per test
+// program into the temp folder); a sequence with blacked-out frames.
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -12,8 +13,17 @@
 #include "pllvo/io/sequence.h"
 #include "pllvo/synth/sequence_writer.h"
 #include "pllvo/synth/spec.h"
+#include "pllvo/vo/vo_config.h"
 
 namespace pllvo::vo::testing {
+
+/// The default pipeline in the deterministic single-thread mode, without progress lines.
+inline VoConfig deterministic() {
+  VoConfig c;
+  c.run.threaded = false;
+  c.run.progress_interval_s = 0;
+  return c;
+}
 
 inline synth::SequenceSpec small_spec(const std::string& preset, double duration_s, bool stereo) {
   synth::SequenceSpec spec = synth::preset(preset);

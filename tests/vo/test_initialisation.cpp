@@ -13,12 +13,7 @@
 namespace pllvo::vo {
 namespace {
 
-VoConfig deterministic() {
-  VoConfig c;
-  c.run.threaded = false;
-  c.run.progress_interval_s = 0;
-  return c;
-}
+using testing::deterministic;
 
 double angle_deg(const Eigen::Matrix3d& R) {
   return Eigen::AngleAxisd(R).angle() * 180.0 / M_PI;

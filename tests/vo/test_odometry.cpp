@@ -6,16 +6,13 @@
 #include "pllvo/common/fixtures.h"
 #include "pllvo/io/sequence.h"
 #include "pllvo/vo/run_sequence.h"
+#include "synthetic_sequence.h"
 
 namespace pllvo::vo {
 namespace {
 
-VoConfig deterministic() {
-  VoConfig c;
-  c.run.threaded = false;
-  c.run.progress_interval_s = 0;
-  return c;
-}
+using testing::BlackedOutSequence;
+using testing::deterministic;
 
 TEST(Odometry, StereoInitialisesAtMetricScaleAndStaysStillOnEuroc) {
   const auto seq = io::open_sequence(shared_path("data/euroc_V1_01_easy_micro"));
@@ -46,30 +43,6 @@ TEST(Odometry, MonocularInitialisesAndFollowsTheKittiDrive) {
   EXPECT_GT(s.error->path_length_m, 30.0);
   EXPECT_LT(s.error->percent_of_path, 1.0) << "ATE " << s.error->rmse_m << " m";
 }
-
-/// A sequence whose frames [first, last] are black (a covered lens, a light switched off).
-class BlackedOutSequence : public io::Sequence {
- public:
-  BlackedOutSequence(std::unique_ptr<io::Sequence> inner, size_t first, size_t last)
-      : io::Sequence(inner->root()), inner_(std::move(inner)), first_(first), last_(last) {
-    calib_ = inner_->calibration();
-    stamps_ = inner_->timestamps();
-    ground_truth_ = inner_->ground_truth();
-  }
-  std::string format() const override { return inner_->format(); }
-  io::Frame frame(size_t i) const override {
-    io::Frame f = inner_->frame(i);
-    if (i >= first_ && i <= last_) {
-      f.left.setTo(0);
-      if (!f.right.empty()) f.right.setTo(0);
-    }
-    return f;
-  }
-
- private:
-  std::unique_ptr<io::Sequence> inner_;
-  size_t first_, last_;
-};
 
 TEST(Odometry, LosesTrackOnBlackFramesAndRecoversAfterThem) {
   BlackedOutSequence seq(io::open_sequence(shared_path("data/kitti_04_mono51")), 15, 18);

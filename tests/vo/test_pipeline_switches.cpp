@@ -14,6 +14,7 @@
 #include "pllvo/synth/sequence_writer.h"
 #include "pllvo/synth/spec.h"
 #include "pllvo/vo/run_sequence.h"
+#include "synthetic_sequence.h"
 
 namespace pllvo::vo {
 namespace {
@@ -39,12 +40,7 @@ class PipelineSwitches : public ::testing::Test {
     delete dir_;
   }
 
-  static VoConfig base() {
-    VoConfig c;
-    c.run.threaded = false;
-    c.run.progress_interval_s = 0;
-    return c;
-  }
+  static VoConfig base() { return testing::deterministic(); }
   static nlohmann::json run(const VoConfig& c) {
     c.validate();
     const RunSummary s = run_sequence(*sequence_, c, RunOptions{});

@@ -10,9 +10,7 @@ namespace pllvo::vo {
 namespace {
 
 TEST(Recovery, BlackFramesAreAGapAndTrackingResumesAccurately) {
-  VoConfig config;
-  config.run.threaded = false;
-  config.run.progress_interval_s = 0;
+  const VoConfig config = testing::deterministic();
   const auto spec = testing::small_spec("easy_normal", 4.0, true);
   const size_t first_black = 35, last_black = 40;
   testing::BlackedOutSequence seq(io::open_sequence(testing::rendered(spec, "recovery")), first_black, last_black);
