@@ -132,9 +132,9 @@ def run_homography(extractor, matchers, args, device, photometric_params):
     results = {name: {"precision": [], "recall": [], "h_correct_3px": []} for name in ("mnn", "lightglue")}
     rng = np.random.default_rng(args.seed + 1)
     for index in range(len(items)):
-        image0, image1, w01, w10 = pairs.pair(rng, index)
+        image0, image1, H_true = pairs.sample(rng, index)
+        w01, w10 = homography_warp(H_true, height, width), homography_warp(np.linalg.inv(H_true), height, width)
         kp0, d0, kp1, d1 = extract_pair(extractor, image0, image1, args.keypoints, device)
-        H_true = homography_from_warp(w01)
         for name, m0 in matchers(kp0, d0, kp1, d1, (width, height)).items():
             p, r = score_dense(kp0, kp1, w01, w10, m0)
             H = eval_metrics.estimate_homography(kp0.cpu().numpy(), kp1.cpu().numpy(), to_pairs(m0))
@@ -143,17 +143,6 @@ def run_homography(extractor, matchers, args, device, photometric_params):
             results[name]["recall"].append(r)
             results[name]["h_correct_3px"].append(float(correct))
     return summarise(results)
-
-
-def homography_from_warp(warp):
-    """The homography behind a dense homography warp (fit on its valid pixels)."""
-    h, w, _ = warp.shape
-    ys, xs = np.mgrid[0:h:8, 0:w:8]
-    target = warp[ys, xs].reshape(-1, 2)
-    source = np.stack([xs, ys], -1).reshape(-1, 2).astype(np.float64)
-    ok = ~np.isnan(target[:, 0])
-    H, _ = cv2.findHomography(source[ok], target[ok].astype(np.float64), 0)
-    return H
 
 
 def run_scannet(extractor, matchers, args, device):

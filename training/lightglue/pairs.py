@@ -46,13 +46,18 @@ class HomographyPairs:
             self.cache[index] = np.round(image * 255).astype(np.uint8)
         return self.cache[index].astype(np.float32) / 255
 
-    def pair(self, rng, index=None):
+    def sample(self, rng, index=None):
+        """(image0, image1, H): a crop and its warped copy, each photometrically changed."""
         index = int(rng.integers(len(self.items))) if index is None else index
         image = self.image(index)
         H = sample_homography(rng, self.height, self.width, self.homography)
         warped, valid = warp_image(image, H)
         image0 = photometric.augment(image, rng, self.photometric)
         image1 = photometric.augment(warped, rng, self.photometric) * valid
+        return image0, image1, H
+
+    def pair(self, rng, index=None):
+        image0, image1, H = self.sample(rng, index)
         return image0, image1, homography_warp(H, self.height, self.width), \
             homography_warp(np.linalg.inv(H), self.height, self.width)
 
