@@ -6,8 +6,6 @@
 # TOTAL_MINUTES bounds the whole script (smoke test included); the pipeline gets what is left minus one minute.
 set -uo pipefail
 script_start=$(date +%s)
-minutes=$(awk -v t="$total" -v s=$(( start - script_start )) 'BEGIN { printf "%.2f", t - s / 60 - 1 }')
-echo "pipeline budget: $minutes min"
 pack=$(realpath "$1"); results=$(realpath -m "$2"); total=${3:-9.3}; shift 3 || shift $#
 mkdir -p "$results"
 cd "$(dirname "$0")/.."
