@@ -75,11 +75,13 @@ void run(const RunArgs& a) {
                 l.last_time);
   std::printf("estimated path %.3f, largest distance from the start %.4f (%s)\n", s.path_length,
               s.max_displacement, s.stereo ? "metres" : "map units");
-  if (s.error)
-    std::printf("ATE RMSE %.4f m over %zu poses (%s alignment%s), %.2f%% of the %.3f m path\n", s.error->rmse_m,
-                s.error->matched_poses, s.error->align.c_str(),
-                s.error->align == "sim3" ? (", scale " + std::to_string(s.error->scale)).c_str() : "",
-                s.error->percent_of_path, s.error->path_length_m);
+  if (s.error) {
+    std::string how = s.error->align + " alignment";
+    if (s.error->align == "sim3") how += ", scale " + std::to_string(s.error->scale);
+    if (s.error->collinear_reference) how += ", straight-line ground truth";
+    std::printf("ATE RMSE %.4f m over %zu poses (%s), %.2f%% of the %.3f m path\n", s.error->rmse_m,
+                s.error->matched_poses, how.c_str(), s.error->percent_of_path, s.error->path_length_m);
+  }
   std::printf("outputs: %s/{trajectory.tum, keyframes.tum, stats.json, map.ply}\n", a.out.c_str());
   if (a.report) std::printf("report: %s\n", report::write_report(a.out).string().c_str());
 }

@@ -96,6 +96,41 @@ TEST(Alignment, CollinearPointsAreDegeneratePlanarAreNot) {
   EXPECT_NEAR(a.transform.scale, 1.0, 1e-12);
 }
 
+TEST(Alignment, CollinearReferenceIsAlignedWhenAllowed) {
+  // A slider: the reference moves along x only. The estimate is the same line, noisy off it,
+  // rotated, scaled by 1/3 and shifted; the allowed fit must undo the scale and bring the error
+  // down to the noise, and no rotation may do better (checked against random rotations).
+  PoseList ref, est;
+  Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, -1, 0.5).normalized()).toRotationMatrix();
+  for (int i = 0; i < 30; ++i) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = Eigen::Vector3d(0.1 + 0.03 * i, 0, 0);
+    ref.push_back(T);
+    const Eigen::Vector3d noise(0.002 * std::sin(1.3 * i), 0.003 * std::cos(0.7 * i), 0.002 * std::sin(2.1 * i));
+    T.translation() = R * (T.translation() + noise) / 3.0 + Eigen::Vector3d(1, 2, 3);
+    est.push_back(T);
+  }
+  auto refused = est;
+  EXPECT_THROW(align(refused, ref, AlignMode::sim3), EvalError);
+  auto aligned = est;
+  const auto a = align(aligned, ref, AlignMode::sim3, -1, true);
+  EXPECT_NEAR(a.transform.scale, 3.0, 0.02);
+  auto rmse = [&](const PoseList& e) {
+    double sum = 0;
+    for (size_t i = 0; i < ref.size(); ++i) sum += (e[i].translation() - ref[i].translation()).squaredNorm();
+    return std::sqrt(sum / ref.size());
+  };
+  const double best = rmse(aligned);
+  EXPECT_LT(best, 0.004);
+  for (int k = 0; k < 50; ++k) {  // other rotations mapping the line onto itself, same scale and centre
+    auto other = est;
+    const Eigen::Matrix3d Q = a.transform.rotation *
+        Eigen::AngleAxisd(0.1 * (k + 1), a.transform.rotation.transpose() * Eigen::Vector3d::UnitX()).toRotationMatrix();
+    for (auto& T : other) T.translation() = a.transform.scale * Q * T.translation() + a.transform.translation;
+    EXPECT_GE(rmse(other), best - 1e-12);
+  }
+}
+
 TEST(Alignment, OriginAlignmentMovesTheFirstPoseOntoTheReference) {
   const auto ref = random_path(10);
   auto S = known();

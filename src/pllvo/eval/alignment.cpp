@@ -28,7 +28,7 @@ std::string_view align_mode_name(AlignMode mode) {
   return "none";
 }
 
-Similarity umeyama(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y, bool with_scale) {
+Similarity umeyama(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y, bool with_scale, bool allow_collinear) {
   if (x.cols() != y.cols() || x.cols() == 0)
     throw EvalError(EvalErrorKind::geometry, "data matrices must have the same, non-zero number of points");
   const double n = static_cast<double>(x.cols());
@@ -44,7 +44,7 @@ Similarity umeyama(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y, bool wi
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(cov, Eigen::ComputeFullU | Eigen::ComputeFullV);
   const Eigen::Vector3d d = svd.singularValues();
   const int rank = static_cast<int>((d.array() > std::numeric_limits<double>::epsilon()).count());
-  if (rank < 2)
+  if (rank < (allow_collinear ? 1 : 2))
     throw EvalError(EvalErrorKind::geometry, "Degenerate covariance rank, Umeyama alignment is not possible");
 
   Eigen::Matrix3d S = Eigen::Matrix3d::Identity();
@@ -56,7 +56,7 @@ Similarity umeyama(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y, bool wi
   return out;
 }
 
-Alignment align(PoseList& est, const PoseList& ref, AlignMode mode, long n_to_align) {
+Alignment align(PoseList& est, const PoseList& ref, AlignMode mode, long n_to_align, bool allow_collinear) {
   if (mode == AlignMode::none) throw InternalError("align: mode none");
   if (est.size() != ref.size()) throw InternalError("align: trajectories must have the same number of poses");
   if (n_to_align == 0) throw InputError("--n-to-align must be positive (or -1 for all poses)");
@@ -70,7 +70,7 @@ Alignment align(PoseList& est, const PoseList& ref, AlignMode mode, long n_to_al
   out.applied = mode;
   out.n_used = n;
   // Scale-only uses the scale of the full (rotation-aware) Sim(3) fit, as evo does.
-  out.transform = umeyama(x, y, mode != AlignMode::se3);
+  out.transform = umeyama(x, y, mode != AlignMode::se3, allow_collinear);
 
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = out.transform.rotation;

@@ -30,8 +30,11 @@ struct Similarity {
 
 /// Least-squares similarity from points x onto points y (3 x n each), Umeyama 1991 as evo
 /// computes it; scale is 1 without `with_scale`. Throws EvalError(geometry) when fewer than
-/// two singular values of the covariance exceed DBL_EPSILON.
-Similarity umeyama(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y, bool with_scale);
+/// two singular values of the covariance exceed DBL_EPSILON. `allow_collinear` accepts one
+/// (a straight-line reference, e.g. a camera on a linear slider, which evo refuses): the fit
+/// is then still a least-squares minimiser, but the rotation about the line is arbitrary.
+Similarity umeyama(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y, bool with_scale,
+                   bool allow_collinear = false);
 
 struct Alignment {
   AlignMode applied = AlignMode::none;
@@ -41,7 +44,8 @@ struct Alignment {
 
 /// Fits on the first `n_to_align` poses (all when negative) and applies the fit to every
 /// estimate pose: p <- scale * p, then T <- [R t] * T (scale_only: only the first step).
-Alignment align(PoseList& est, const PoseList& ref, AlignMode mode, long n_to_align = -1);
+Alignment align(PoseList& est, const PoseList& ref, AlignMode mode, long n_to_align = -1,
+                bool allow_collinear = false);
 
 /// T = ref[0] * est[0]^-1 applied to every estimate pose; returns T.
 Eigen::Isometry3d align_origin(PoseList& est, const PoseList& ref);

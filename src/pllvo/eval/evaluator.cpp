@@ -33,6 +33,7 @@ void EvalOptions::load(const ConfigNode& node) {
   node.get("all_pairs", rpe.all_pairs);
   node.get("pairs_from_reference", pairs_from_reference);
   node.get("min_poses", min_poses);
+  node.get("allow_collinear", allow_collinear);
   node.reject_unknown_keys();
 }
 
@@ -85,7 +86,7 @@ PreparedTrajectories Evaluator::prepare(const io::Trajectory& ref, const io::Tra
                                       : std::string()));
   }
   if (options_.align != AlignMode::none)
-    out.alignment = align(out.est, out.ref, options_.align, options_.n_to_align);
+    out.alignment = align(out.est, out.ref, options_.align, options_.n_to_align, options_.allow_collinear);
   if (options_.align_origin) out.origin_alignment = align_origin(out.est, out.ref);
   return out;
 }

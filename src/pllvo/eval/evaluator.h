@@ -25,9 +25,11 @@ struct EvalOptions {
   PairOptions rpe;                    ///< RPE pair selection
   bool pairs_from_reference = false;  ///< select RPE pairs on the reference instead of the estimate
   size_t min_poses = 3;               ///< fewer poses to compare is an input error
+  bool allow_collinear = false;       ///< align onto a straight-line reference (evo refuses; see umeyama)
 
   /// Keys: t_max_diff, t_offset, align (none|se3|sim3|scale), n_to_align, align_origin, delta,
-  /// delta_unit (frames|m|deg|rad), delta_tol, all_pairs, pairs_from_reference, min_poses.
+  /// delta_unit (frames|m|deg|rad), delta_tol, all_pairs, pairs_from_reference, min_poses,
+  /// allow_collinear.
   void load(const ConfigNode& node);
   /// InputError for contradictory or out-of-range values.
   void validate() const;

@@ -28,6 +28,7 @@ struct RunOptions {
 /// Absolute trajectory error against the sequence's ground truth (evo's APE, translation).
 struct TrajectoryError {
   std::string align;        ///< "se3" (stereo, metric) or "sim3" (mono, scale unknown)
+  bool collinear_reference = false;  ///< straight-line ground truth: rotation about it not observable
   size_t matched_poses = 0;
   double rmse_m = 0;
   double max_m = 0;
@@ -37,7 +38,8 @@ struct TrajectoryError {
 };
 
 /// APE of `estimate` against `reference` (SE3 alignment for stereo, Sim3 for mono); nullopt
-/// when fewer than 3 poses match.
+/// when fewer than 3 poses match. A straight-line reference (evo refuses it) is aligned all the
+/// same, flagged `collinear_reference`.
 std::optional<TrajectoryError> trajectory_error(const io::Trajectory& estimate, const io::Trajectory& reference,
                                                 bool metric_scale);
 
