@@ -34,6 +34,8 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.pose.lost_frames_before_reset, code.pose.lost_frames_before_reset);
   EXPECT_EQ(file.mapping.max_anchor_keyframes, code.mapping.max_anchor_keyframes);
   EXPECT_DOUBLE_EQ(file.mapping.mnn_max_distance, code.mapping.mnn_max_distance);
+  EXPECT_DOUBLE_EQ(file.mapping.lightglue_depth_confidence, code.mapping.lightglue_depth_confidence);
+  EXPECT_DOUBLE_EQ(file.mapping.lightglue_width_confidence, code.mapping.lightglue_width_confidence);
   EXPECT_EQ(file.mapping.matcher, code.mapping.matcher);
   EXPECT_EQ(file.run.threaded, code.run.threaded);
   EXPECT_EQ(file.pipeline.lines, code.pipeline.lines);

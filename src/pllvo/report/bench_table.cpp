@@ -109,6 +109,9 @@ std::string format_bench_table(const BenchResult& r) {
       row.push_back(fmt(median_of(*c, "speed_ratio"), "%.2f"));
       for (const auto& t : module_timers()) row.push_back(fmt(median_of(*c, "ms_" + t.column), "%.1f"));
       std::string note = c->matcher.empty() ? "" : "matcher " + c->matcher;
+      const double layers = median_of(*c, "matcher_layers_mean"), pruned = median_of(*c, "matcher_pruned_share");
+      if (std::isfinite(layers) && std::isfinite(pruned))
+        note += fmt(layers, " (%.2f layers, ") + fmt(100 * pruned, "%.0f%% pruned)");
       if (c->failed)
         note += (note.empty() ? "" : "; ") + std::to_string(c->failed) + " of " + std::to_string(c->runs.size()) +
                 " runs failed";

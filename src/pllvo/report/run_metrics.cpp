@@ -42,6 +42,8 @@ std::map<std::string, double> RunMetrics::values() const {
       {"frame_ms_p95", frame_ms_p95},
       {"wall_ms_per_frame", wall_ms_per_frame},
       {"cpu_ms_per_frame", cpu_ms_per_frame},
+      {"matcher_layers_mean", matcher_layers_mean},
+      {"matcher_pruned_share", matcher_pruned_share},
   };
   for (const auto& t : module_timers()) {
     const auto it = module_ms.find(t.column);
@@ -89,6 +91,9 @@ void add_stats(const nlohmann::json& stats, RunMetrics& m) {
     m.frame_ms_median = number(timing["frame"], "median");
     m.frame_ms_p95 = number(timing["frame"], "p95");
   }
+  const nlohmann::json samples = stats.value("per_frame", nlohmann::json::object());
+  if (samples.contains("matcher_layers_run")) m.matcher_layers_mean = number(samples["matcher_layers_run"], "mean");
+  if (samples.contains("matcher_pruned_share")) m.matcher_pruned_share = number(samples["matcher_pruned_share"], "mean");
   for (const auto& t : module_timers()) {
     double sum = 0;
     bool any = false;

@@ -34,6 +34,9 @@ struct RunMetrics {
   /// disturbed than wall time by other work on a shared machine.
   double cpu_ms_per_frame = NAN;
   std::map<std::string, double> module_ms;  ///< module_timers() columns, mean ms per call
+  /// LightGlue's adaptivity over the run's keyframe matches: mean layers run before the
+  /// confidence exit, mean share of points pruned (NaN for matchers without it).
+  double matcher_layers_mean = NAN, matcher_pruned_share = NAN;
 
   bool ok() const { return error.empty(); }
   /// Every number by name (the bench aggregates them alike).

@@ -87,13 +87,16 @@ class NeuralMatcher final : public KeyframeMatcher {
     if (a.empty() || b.empty()) return out;
     if (a.binary() || b.binary()) throw InternalError("keyframe matcher: SuperPoint matching needs float descriptors");
     const nn::Matches m = matcher_->match(to_nn(a, image_size), to_nn(b, image_size));
+    if (m.layers_run > 0) last_effort_ = MatchEffort{m.layers_run, m.pruned_share};
     out.reserve(static_cast<size_t>(m.size()));
     for (int k = 0; k < m.size(); ++k) out.push_back({m.pairs(k, 0), m.pairs(k, 1), m.scores(k)});
     return out;
   }
+  std::optional<MatchEffort> last_effort() const override { return last_effort_; }
 
  private:
   std::unique_ptr<nn::FeatureMatcher> matcher_;
+  std::optional<MatchEffort> last_effort_;
 };
 
 }  // namespace
@@ -109,6 +112,8 @@ std::unique_ptr<KeyframeMatcher> make_keyframe_matcher(const MappingConfig& conf
   nn::MatcherConfig mc;
   mc.type = config.matcher == "mnn" ? "mnn" : "lightglue";
   mc.lightglue.weights = config.lightglue_weights;
+  mc.lightglue.depth_confidence = static_cast<float>(config.lightglue_depth_confidence);
+  mc.lightglue.width_confidence = static_cast<float>(config.lightglue_width_confidence);
   mc.mnn.distance_threshold = static_cast<float>(config.mnn_max_distance);
   if (config.matcher == "lightglue") {
     // Asked for by name (an ablation, a benchmark): no silent fallback.

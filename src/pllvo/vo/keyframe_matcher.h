@@ -2,6 +2,7 @@
 // Matching of keyframe points with the previous keyframe's: Hamming + ratio test for binary
 // descriptors (ORB baselines), mutual nearest neighbour or LightGlue for SuperPoint.
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -18,12 +19,20 @@ struct PointMatch {
   float score = 0;     ///< matcher confidence or descriptor distance (matcher-specific)
 };
 
+/// How much of an adaptive matcher (LightGlue) the last match ran.
+struct MatchEffort {
+  int layers_run = 0;        ///< layers before the confidence exit (the model's depth: none)
+  float pruned_share = 0;    ///< points dropped as unmatchable before the last layer run
+};
+
 class KeyframeMatcher {
  public:
   virtual ~KeyframeMatcher() = default;
   virtual std::string name() const = 0;
   /// One-to-one matches between `a` and `b` (images of size `image_size`).
   virtual std::vector<PointMatch> match(const PointFeatures& a, const PointFeatures& b, cv::Size image_size) = 0;
+  /// The adaptive depth and width of the last match(); none for fixed-cost matchers.
+  virtual std::optional<MatchEffort> last_effort() const { return std::nullopt; }
 };
 
 /// Picks the matcher for the front end's descriptors and the mapping config.

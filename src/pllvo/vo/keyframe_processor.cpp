@@ -153,6 +153,10 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job) {
     map_.read([&](const MapData& m) { prev = m.keyframes.at(segment_keyframes_.back()); });
     matches = matcher_->match(prev.features, features, job.left.size());
     result.matches = static_cast<int>(matches.size());
+    if (const auto effort = matcher_->last_effort()) {
+      stats_.add_sample("matcher_layers_run", effort->layers_run);
+      stats_.add_sample("matcher_pruned_share", effort->pruned_share);
+    }
     frontend_->report_matches(result.matches, static_cast<int>(features.size()));
     std::set<Id> used(ids.begin(), ids.end());
     for (const auto& mt : matches) {

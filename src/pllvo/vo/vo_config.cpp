@@ -72,6 +72,8 @@ void read_pose(const ConfigNode& n, PoseConfig& c) {
 void read_mapping(const ConfigNode& n, MappingConfig& c) {
   n.get("matcher", c.matcher);
   n.get("lightglue_weights", c.lightglue_weights);
+  n.get("lightglue_depth_confidence", c.lightglue_depth_confidence);
+  n.get("lightglue_width_confidence", c.lightglue_width_confidence);
   n.get("mnn_max_distance", c.mnn_max_distance);
   n.get("orb_ratio", c.orb_ratio);
   n.get("orb_max_hamming", c.orb_max_hamming);

@@ -115,6 +115,10 @@ struct PoseConfig {
 struct MappingConfig {
   std::string matcher = "auto";   ///< auto (LightGlue if weights exist, else MNN) | lightglue | mnn
   std::string lightglue_weights = "";
+  /// LightGlue's adaptive depth (early exit once this share of points is confident) and width
+  /// (pruning of unmatchable points); <= 0 turns each off (the full network every time).
+  double lightglue_depth_confidence = 0.95;
+  double lightglue_width_confidence = 0.99;
   double mnn_max_distance = 0.7;  ///< float descriptors (unit norm): L2 distance (hloc's 0.7)
   double orb_ratio = 0.8;         ///< binary descriptors: Lowe ratio test
   int orb_max_hamming = 64;
