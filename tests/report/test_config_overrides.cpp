@@ -72,7 +72,8 @@ TEST(BenchMethods, ShippedTableHasEveryBaselineAndAblationAndEachBuildsAValidCon
   const auto table = load_bench_methods(file);
   const std::vector<std::string> expected = {"orb",       "klt",           "sp-mnn",
                                              "pllvo",     "pllvo-no-lines", "pllvo-mnn",
-                                             "pllvo-no-line-flow", "pllvo-no-cross", "pllvo-no-overlap-trigger"};
+                                             "pllvo-no-line-flow", "pllvo-no-cross", "pllvo-no-overlap-trigger",
+                                             "pllvo-lg-full"};
   const auto selected = table.select({}, file);
   ASSERT_EQ(selected.size(), expected.size());
   for (size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(selected[i].name, expected[i]);
@@ -92,6 +93,10 @@ TEST(BenchMethods, ShippedTableHasEveryBaselineAndAblationAndEachBuildsAValidCon
   EXPECT_TRUE(configs["pllvo"].lines.cross_constraint.enabled);
   EXPECT_FALSE(configs["pllvo-no-overlap-trigger"].keyframes.use_line_trigger);
   EXPECT_TRUE(configs["pllvo"].keyframes.use_line_trigger);
+  EXPECT_EQ(configs["pllvo-lg-full"].mapping.matcher, "lightglue");
+  EXPECT_LE(configs["pllvo-lg-full"].mapping.lightglue_depth_confidence, 0.0);
+  EXPECT_LE(configs["pllvo-lg-full"].mapping.lightglue_width_confidence, 0.0);
+  EXPECT_GT(configs["pllvo"].mapping.lightglue_depth_confidence, 0.0);
 }
 
 TEST(BenchMethods, BadTablesAreInputErrors) {

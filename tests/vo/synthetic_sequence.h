@@ -17,9 +17,12 @@
 
 namespace pllvo::vo::testing {
 
-/// The default pipeline in the deterministic single-thread mode, without progress lines.
+/// The default pipeline in the deterministic single-thread mode, without progress lines, with
+/// the ORB front end: it needs no weights and is cheap on CI's two cores, and these tests'
+/// bounds were measured with it (SuperPoint: SuperPointFrontend.*, PipelineSwitches.*).
 inline VoConfig deterministic() {
   VoConfig c;
+  c.frontend.type = "orb";
   c.run.threaded = false;
   c.run.progress_interval_s = 0;
   return c;

@@ -34,6 +34,33 @@ std::vector<cv::Point2f> grid_points(cv::Size size, int step, int margin) {
   return pts;
 }
 
+TEST(PointTracker, LocalContrastFollowsAnUnevenClippedExposureJump) {
+  // A sudden exposure jump that is not one gain: the right half 1.8x brighter with its
+  // highlights clipped (what medium_sudden and uneven flicker do). LK on the images loses
+  // the right half; on their local contrast it follows most points.
+  cv::Mat a;
+  texture({320, 240}, 7).convertTo(a, CV_8U, 0.5, 40);
+  const double dx = 2.4, dy = 1.7;
+  cv::Mat b = shifted(a, dx, dy);
+  cv::Mat bright;
+  b(cv::Rect(160, 0, 160, 240)).convertTo(bright, CV_8U, 1.8, 0);
+  bright.copyTo(b(cv::Rect(160, 0, 160, 240)));
+  KltConfig config;
+  const PointTracker tracker(config);
+  const auto pts = grid_points(a.size(), 16, 24);
+  auto followed = [&](const cv::Mat& from, const cv::Mat& to) {
+    const TrackResult r = tracker.track(tracker.build_pyramid(from), tracker.build_pyramid(to), pts);
+    int good = 0;
+    for (size_t i = 0; i < pts.size(); ++i)
+      good += r.ok[i] && cv::norm(r.points[i] - pts[i] - cv::Point2f(dx, dy)) < 0.5;
+    return static_cast<double>(good) / static_cast<double>(pts.size());
+  };
+  const double plain = followed(a, b);
+  const double local = followed(local_contrast(a, 15), local_contrast(b, 15));
+  EXPECT_LT(plain, 0.75);
+  EXPECT_GT(local, 0.85);
+}
+
 TEST(PointTracker, FollowsASubpixelShift) {
   const cv::Mat a = texture({320, 240}, 1);
   const double dx = 3.3, dy = -2.1;

@@ -355,6 +355,23 @@ void Odometry::start_tracking(const KeyframeResult& result, double timestamp) {
 
 // ---------------------------------------------------------------- tracking
 
+void Odometry::retrack_on_local_contrast(const cv::Mat& left, const std::vector<cv::Point2f>& from,
+                                         const std::vector<cv::Point2f>& predicted, TrackResult& tr) {
+  const double share = config_.klt.contrast_fallback_share;
+  if (share <= 0 || from.empty() || previous_image_.empty() ||
+      tr.tracked() >= share * static_cast<double>(from.size()))
+    return;
+  const int window = config_.klt.contrast_window_px;
+  const ImagePyramid a = tracker_.build_pyramid(local_contrast(previous_image_, window));
+  const ImagePyramid b = tracker_.build_pyramid(local_contrast(left, window));
+  TrackResult again = tracker_.track(a, b, from, &predicted);
+  stats_.add_count("klt_contrast_fallbacks");
+  if (again.tracked() > tr.tracked()) {
+    spdlog::debug("KLT on local contrast: {} of {} tracks instead of {}", again.tracked(), from.size(), tr.tracked());
+    tr = std::move(again);
+  }
+}
+
 bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
                      const ImagePyramid& pyramid, FrameRecord& record) {
   const geometry::Pose T_world_pred =
@@ -382,6 +399,7 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   {
     ScopedTimer t(stats_, "klt");
     tr = tracker_.track(previous_pyramid_, pyramid, from, &predicted);
+    retrack_on_local_contrast(left, from, predicted, tr);
   }
 
   // Lines: predicted from their 3-D segment when they have one, followed by line optical flow.

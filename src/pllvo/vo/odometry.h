@@ -119,6 +119,10 @@ class Odometry {
   geometry::Pose to_output(const geometry::Pose& T_world_work) const;
   /// Scales both images by one gain so that the left image's mean is klt.normalize_mean.
   void normalize_brightness(cv::Mat& left, cv::Mat& right) const;
+  /// Too few tracks survived: tracks them again on locally contrast-normalised images
+  /// (klt.contrast_fallback_share) and keeps whichever result follows more of them.
+  void retrack_on_local_contrast(const cv::Mat& left, const std::vector<cv::Point2f>& from,
+                                 const std::vector<cv::Point2f>& predicted, TrackResult& tr);
 
   VoConfig config_;
   RunStats& stats_;

@@ -64,6 +64,20 @@ TrackResult PointTracker::track(const ImagePyramid& from, const ImagePyramid& to
   return result;
 }
 
+cv::Mat local_contrast(const cv::Mat& image, int window) {
+  cv::Mat f, mean, mean_sq, out;
+  image.convertTo(f, CV_32F);
+  const cv::Size box(window, window);
+  cv::blur(f, mean, box, cv::Point(-1, -1), cv::BORDER_REFLECT);
+  cv::blur(f.mul(f), mean_sq, box, cv::Point(-1, -1), cv::BORDER_REFLECT);
+  cv::Mat var = cv::max(mean_sq - mean.mul(mean), 0.0), sd;
+  cv::sqrt(var, sd);
+  // The constant keeps flat, noisy areas flat instead of blowing their noise up to full contrast.
+  cv::Mat normalised = (f - mean) / (sd + 6.0);
+  normalised.convertTo(out, CV_8U, 40.0, 128.0);
+  return out;
+}
+
 double patch_ncc(const cv::Mat& a, cv::Point2f pa, const cv::Mat& b, cv::Point2f pb, int size) {
   cv::Mat patch_a, patch_b;
   cv::getRectSubPix(a, cv::Size(size, size), pa, patch_a, CV_32F);

@@ -47,6 +47,11 @@ class PointTracker {
   cv::TermCriteria criteria_;
 };
 
+/// The image with its local mean removed and its local contrast scaled to a fixed level
+/// (window x window box statistics), as 8-bit around 128: what stays when light changes
+/// unevenly across the image.
+cv::Mat local_contrast(const cv::Mat& image, int window);
+
 /// Normalised cross-correlation of the size x size patches around two sub-pixel points;
 /// insensitive to gain and offset, so it holds across exposure changes.
 double patch_ncc(const cv::Mat& a, cv::Point2f pa, const cv::Mat& b, cv::Point2f pb, int size = 9);

@@ -34,6 +34,8 @@ void read_klt(const ConfigNode& n, KltConfig& c) {
   n.get("min_eigen_threshold", c.min_eigen_threshold);
   n.get("normalize_mean", c.normalize_mean);
   n.get("max_normalize_gain", c.max_normalize_gain);
+  n.get("contrast_fallback_share", c.contrast_fallback_share);
+  n.get("contrast_window_px", c.contrast_window_px);
   n.get("border_px", c.border_px);
   n.reject_unknown_keys();
 }
@@ -134,6 +136,9 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(klt.window_px >= 5 && klt.window_px % 2 == 1, file, "klt.window_px", "must be odd and >= 5");
   require(klt.levels >= 0 && klt.levels <= 6, file, "klt.levels", "must be in [0, 6]");
   require(klt.fb_threshold_px > 0, file, "klt.fb_threshold_px", "must be positive");
+  require(klt.contrast_fallback_share >= 0 && klt.contrast_fallback_share <= 1, file, "klt.contrast_fallback_share",
+          "must be in [0, 1]");
+  require(klt.contrast_window_px >= 3, file, "klt.contrast_window_px", "must be at least 3");
   require(keyframes.min_tracked_ratio >= 0 && keyframes.min_tracked_ratio <= 1, file,
           "keyframes.min_tracked_ratio", "must be in [0, 1]");
   require(keyframes.max_interval_s > 0, file, "keyframes.max_interval_s", "must be positive");

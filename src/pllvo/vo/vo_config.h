@@ -13,7 +13,7 @@ namespace pllvo::vo {
 
 /// Point detection + description on keyframes (paper 3.1). One of three front ends.
 struct FrontendConfig {
-  std::string type = "orb";  ///< auto (superpoint if weights are found, else orb) | superpoint | orb | shitomasi
+  std::string type = "auto";  ///< auto (superpoint if weights are found, else orb) | superpoint | orb | shitomasi
   int max_points = 400;      ///< per keyframe; 300-500 keeps PnP well conditioned at low cost
   /// Detection is spread over a grid so points do not cluster on one textured patch.
   int grid_cols = 8;
@@ -61,6 +61,13 @@ struct KltConfig {
   /// flicker and exposure changes then keep LK's brightness constancy. 0: off.
   double normalize_mean = 110.0;
   double max_normalize_gain = 6.0;  ///< the gain stays within [1/max, max]
+  /// When fewer than this share of the tracks survive a frame, they are tracked again on
+  /// locally contrast-normalised images (zero mean, unit contrast over `contrast_window_px`):
+  /// a sudden exposure change with clipped highlights, or uneven flicker, breaks the one-gain
+  /// normalisation above, not this. Only a fallback: on ordinary frames it tracks worse
+  /// (it amplifies noise and blur in flat areas). 0: off.
+  double contrast_fallback_share = 0.3;
+  int contrast_window_px = 15;
 };
 
 /// Keyframe decision (paper 3.3). Every strategy can be switched off for ablations.
