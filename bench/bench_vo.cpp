@@ -1,7 +1,9 @@
 // Throughput of the whole odometry (threaded, as `pllvo run`) over a rendered 752x480 stereo
 // sequence (easy_normal, 15 s, 301 frames at 20 Hz): frames per second and the per-module
-// split, for the SuperPoint front end (networks on keyframes only, on the worker thread) and
-// the ORB front end (the baseline) side by side in the same run.
+// split, for the default pipeline (`pllvo`: pllvo's own SuperPoint + LightGlue from models/,
+// networks on keyframes only, on the worker thread), SuperPoint with the official weights and
+// MNN (`superpoint_official_mnn`, needs ../shared) and the ORB front end (the baseline) side by
+// side in the same run.
 //
 //   build/bin/bench_vo                                   # renders the sequence into /tmp first
 //   PLLVO_BENCH_SEQUENCE=/data/synth/easy_normal build/bin/bench_vo --benchmark_repetitions=3
@@ -65,7 +67,7 @@ double mean_ms(const nlohmann::json& stats, const std::string& key) {
 
 void BM_VoSequence(benchmark::State& state, const std::string& frontend) {
   vo::VoConfig config;
-  config.frontend.type = frontend;
+  config.frontend.type = frontend == "pllvo" ? "superpoint" : frontend;
   if (frontend == "superpoint") {
     // The official weights with MNN (docs/vo.md's measurement); pllvo's LightGlue in models/
     // was trained on pllvo's SuperPoint descriptors, not on these.
@@ -100,7 +102,8 @@ void BM_VoSequence(benchmark::State& state, const std::string& frontend) {
 }  // namespace
 
 BENCHMARK_CAPTURE(BM_VoSequence, orb, std::string("orb"))->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
-BENCHMARK_CAPTURE(BM_VoSequence, superpoint, std::string("superpoint"))
+BENCHMARK_CAPTURE(BM_VoSequence, pllvo, std::string("pllvo"))->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+BENCHMARK_CAPTURE(BM_VoSequence, superpoint_official_mnn, std::string("superpoint"))
     ->Unit(benchmark::kSecond)
     ->Iterations(1)
     ->UseRealTime();
