@@ -39,6 +39,7 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.mapping.matcher, code.mapping.matcher);
   EXPECT_EQ(file.run.threaded, code.run.threaded);
   EXPECT_EQ(file.pipeline.lines, code.pipeline.lines);
+  EXPECT_EQ(file.pipeline.lines_in_mono, code.pipeline.lines_in_mono);
   EXPECT_EQ(file.pipeline.line_tracking, code.pipeline.line_tracking);
 }
 
@@ -57,6 +58,20 @@ TEST(VoConfig, PipelineSwitchesAreReadAndChecked) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("pipeline.line_tracking"), std::string::npos) << e.what();
   }
+}
+
+TEST(VoConfig, MonocularRunsDropLinesUnlessAskedFor) {
+  const VoConfig c;
+  EXPECT_TRUE(c.for_mode(true).pipeline.lines);
+  EXPECT_FALSE(c.for_mode(false).pipeline.lines);
+  const VoConfig with = VoConfig::load(write_yaml("monolines", "pipeline:\n  lines_in_mono: true\n"));
+  EXPECT_TRUE(with.pipeline.lines_in_mono);
+  EXPECT_TRUE(with.for_mode(false).pipeline.lines);
+  VoConfig none;
+  none.pipeline.lines = false;
+  none.pipeline.lines_in_mono = true;
+  EXPECT_FALSE(none.for_mode(true).pipeline.lines);
+  EXPECT_FALSE(none.for_mode(false).pipeline.lines);
 }
 
 TEST(VoConfig, FileOverridesOnlyTheKeysItNames) {

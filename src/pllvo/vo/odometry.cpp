@@ -71,17 +71,17 @@ std::vector<int> associate_by_position(const std::vector<lines::LineSegment>& ex
 }  // namespace
 
 Odometry::Odometry(const VoConfig& config, const io::Calibration& calibration, bool use_stereo, RunStats& stats)
-    : config_(config),
+    : config_(config.for_mode(use_stereo && calibration.stereo())),
       stats_(stats),
       rectifier_(calibration, use_stereo && calibration.stereo()),
       camera_(rectifier_.camera()),
-      tracker_(config.klt),
-      use_lines_(config.pipeline.lines),
-      redetect_lines_(config.pipeline.line_tracking == "redetect"),
-      line_tracker_(config.lines.tracker),
-      line_detector_(config.lines.detector),
-      policy_(config.keyframes),
-      processor_(config, camera_, rectifier_.baseline(), map_, stats),
+      tracker_(config_.klt),
+      use_lines_(config_.pipeline.lines),
+      redetect_lines_(config_.pipeline.line_tracking == "redetect"),
+      line_tracker_(config_.lines.tracker),
+      line_detector_(config_.lines.detector),
+      policy_(config_.keyframes),
+      processor_(config_, camera_, rectifier_.baseline(), map_, stats),
       worker_(config.run.threaded) {
   T_work_cam0_ = rectifier_.T_cam0_work().inverse();
   // The world frame is cam0 of the first initialised frame.

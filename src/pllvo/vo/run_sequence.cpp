@@ -143,7 +143,7 @@ RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, co
   j["mode"] = summary.stereo ? "stereo" : "mono";
   j["frontend"] = odometry.frontend_name();
   j["matcher"] = odometry.matcher_name();
-  j["pipeline"] = {{"lines", config.pipeline.lines},
+  j["pipeline"] = {{"lines", config.for_mode(summary.stereo).pipeline.lines},
                    {"line_tracking", config.pipeline.line_tracking},
                    {"cross_constraint", config.lines.cross_constraint.enabled},
                    {"line_keyframe_trigger", config.keyframes.use_line_trigger}};

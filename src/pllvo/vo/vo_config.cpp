@@ -85,6 +85,7 @@ void read_mapping(const ConfigNode& n, MappingConfig& c) {
 
 void read_pipeline(const ConfigNode& n, PipelineConfig& c) {
   n.get("lines", c.lines);
+  n.get("lines_in_mono", c.lines_in_mono);
   n.get("line_tracking", c.line_tracking);
   n.reject_unknown_keys();
 }
@@ -102,6 +103,12 @@ void require(bool ok, const std::filesystem::path& file, const std::string& key,
 }
 
 }  // namespace
+
+VoConfig VoConfig::for_mode(bool stereo) const {
+  VoConfig c = *this;
+  if (!stereo && !pipeline.lines_in_mono) c.pipeline.lines = false;
+  return c;
+}
 
 VoConfig VoConfig::load(const std::filesystem::path& file) {
   VoConfig config;

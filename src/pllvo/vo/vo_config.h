@@ -140,6 +140,11 @@ struct PipelineConfig {
   /// Lines at all: detection on keyframes, line optical flow, line residuals in the pose and
   /// the bundle adjustment, the line keyframe trigger. false: a points-only VO.
   bool lines = true;
+  /// Lines also in monocular mode. Off by default, measured on the mono suite
+  /// (docs/vo.md, session 4): with a single camera the lines are triangulated from keyframes
+  /// a few centimetres apart, and their residuals in the pose and the bundle adjustment pull
+  /// the scale (medium_lowlight mono ATE 10.3 % with lines, 2.3 % without). Stereo keeps them.
+  bool lines_in_mono = false;
   /// How lines follow the camera between keyframes: `flow` (line optical flow, paper 3.1) or
   /// `redetect` (the usual baseline: lines detected in every frame and associated with the
   /// previous frame's lines by position, predicted by the motion prior; no flow).
@@ -173,6 +178,9 @@ struct VoConfig {
 
   /// Defaults overridden by the file; InputError names the file and key of a bad value.
   static VoConfig load(const std::filesystem::path& file);
+  /// The configuration one run uses: in monocular mode pipeline.lines is off unless
+  /// pipeline.lines_in_mono is set.
+  VoConfig for_mode(bool stereo) const;
   void read(const ConfigNode& node);
   /// InputError (key path) for values outside their meaningful range.
   void validate(const std::filesystem::path& file = {}) const;
