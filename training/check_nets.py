@@ -58,13 +58,35 @@ def check_superpoint(root):
                 check(tag + " descriptors_dense_sub", e <= 1e-4, f"max abs {e:.2e}")
                 continue
             kp = out["keypoints"][0].numpy()
-            check(tag + " keypoints (set and order)", kp.shape == ref["keypoints"].shape and (kp == ref["keypoints"]).all(),
+            order = order_within_ties(ref["keypoints"], ref["keypoint_scores"], kp)
+            check(tag + " keypoints (set, and order up to ties)", order is not None,
                   f"{len(kp)} vs {len(ref['keypoints'])}")
-            if kp.shape == ref["keypoints"].shape:
-                e = max_abs(ref["keypoint_scores"], out["keypoint_scores"][0])
+            if order is not None:
+                e = max_abs(ref["keypoint_scores"][order], out["keypoint_scores"][0])
                 check(tag + " keypoint_scores", e <= 1e-5, f"max abs {e:.2e}")
-                e = max_abs(ref["descriptors"], out["descriptors"][0])
+                e = max_abs(ref["descriptors"][order], out["descriptors"][0])
                 check(tag + " descriptors", e <= 1e-4, f"max abs {e:.2e}")
+
+
+# Two keypoints whose official scores differ by less than this may come out in either order: the
+# softmax's last bits depend on the CPU's convolution kernels (seen: 1.05e-8 apart on an AMD EPYC,
+# sacre_coeur1 k512 ranks 407/408, swapped there both by PyTorch and by the C++ port).
+SCORE_TIE = 1e-7
+
+
+def order_within_ties(ref_kp, ref_scores, kp):
+    """Index into the reference for each of our keypoints, or None when the sets differ or an
+    order differs by more than a tie."""
+    if kp.shape != ref_kp.shape:
+        return None
+    where = {tuple(p): j for j, p in enumerate(ref_kp.tolist())}
+    order = []
+    for i, p in enumerate(kp.tolist()):
+        j = where.get(tuple(p))
+        if j is None or abs(float(ref_scores[i]) - float(ref_scores[j])) > SCORE_TIE:
+            return None
+        order.append(j)
+    return np.array(order) if len(set(order)) == len(order) else None
 
 
 def check_lightglue(root):
