@@ -3,7 +3,9 @@ the same SuperPoint keypoints and descriptors, in one run:
 
 * synth: pairs of frames of held-out `pllvo synth` sequences (other scenes than training: the suite's seed)
   packed by make_data_pack.py, 1-4 packed frames apart: match precision / recall from the exact depth and
-  poses, and relative-pose AUC at 5/10/20 deg (essential matrix, RANSAC) against the true pose;
+  poses, and relative-pose AUC at 5/10/20 deg (essential matrix: OpenCV RANSAC, 1 px, by default;
+  --estimators ransac magsac and --ransac-px add OpenCV MAGSAC++ and other thresholds, each reported for both
+  matchers as pose_auc_5_10_20_<estimator><px>px; --raw-errors writes every pair's pose error);
 * homography: held-out real images (scannet_pairs and tum_fr3_office_snippet frames, never trained on) with
   a random homography and photometric changes, normal and low light: precision / recall and homography
   correctness at 3 px;
@@ -40,6 +42,8 @@ from superpoint.photometric import DarkeningParams, PhotometricParams
 NORMAL = PhotometricParams(p_dark=0.0)
 LOW = PhotometricParams(p_brightness=0.0, p_contrast=0.0, p_gamma=0.0, p_noise=0.0, p_blur=0.0, p_motion_blur=0.0,
                         p_dark=1.0, dark=DarkeningParams(factor=(0.03, 0.1), p_gain=0.5))
+# Essential-matrix estimators (--estimators): OpenCV RANSAC and MAGSAC++.
+ESTIMATORS = {"ransac": cv2.RANSAC, "magsac": cv2.USAC_MAGSAC}
 
 
 def load_lightglue(path, device, adaptive=True):
@@ -113,11 +117,24 @@ def run_synth(pairs, extractor, matchers, args, device):
             K, T_b_a = pairs.relative_pose(choice)
             for name, m0 in matchers(kp0, d0, kp1, d1, image0.shape[::-1]).items():
                 p, r = score_dense(kp0, kp1, w01, w10, m0)
-                estimate = eval_metrics.relative_pose(kp0.cpu().numpy(), kp1.cpu().numpy(), to_pairs(m0), K, K)
                 results[name]["precision"].append(p)
                 results[name]["recall"].append(r)
-                results[name]["pose_error"].append(eval_metrics.pose_error(T_b_a, estimate))
-    return summarise(results)
+                # The same matches scored by every estimator and threshold; both matchers get the same ones
+                # (nothing is chosen per matcher).
+                for estimator in args.estimators:
+                    for px in args.ransac_px:
+                        estimate = eval_metrics.relative_pose(kp0.cpu().numpy(), kp1.cpu().numpy(), to_pairs(m0),
+                                                              K, K, pixel_threshold=px, method=ESTIMATORS[estimator])
+                        results[name].setdefault(pose_key(estimator, px, args), []).append(
+                            eval_metrics.pose_error(T_b_a, estimate))
+    return summarise(results, args.raw_errors)
+
+
+def pose_key(estimator, px, args):
+    """The first estimator at the first threshold is the headline 'pose_error'; the others are named."""
+    if estimator == args.estimators[0] and px == args.ransac_px[0]:
+        return "pose_error"
+    return f"pose_error_{estimator}{px:g}px"
 
 
 def run_homography(extractor, matchers, args, device, photometric_params):
@@ -148,7 +165,7 @@ def run_homography(extractor, matchers, args, device, photometric_params):
 def run_scannet(extractor, matchers, args, device):
     from superpoint.evaluate import read_scannet_pairs
     height, width = args.height, args.width
-    errors = {"mnn": [], "lightglue": []}
+    results = {"mnn": {}, "lightglue": {}}
     for path0, path1, K0, K1, T in read_scannet_pairs()[:args.max_images or None]:
         images, Ks = [], []
         for path, K in ((path0, K0), (path1, K1)):
@@ -157,18 +174,26 @@ def run_scannet(extractor, matchers, args, device):
             Ks.append(np.diag([width / gray.shape[1], height / gray.shape[0], 1.0]) @ K)
         kp0, d0, kp1, d1 = extract_pair(extractor, images[0], images[1], args.keypoints, device)
         for name, m0 in matchers(kp0, d0, kp1, d1, (width, height)).items():
-            estimate = eval_metrics.relative_pose(kp0.cpu().numpy(), kp1.cpu().numpy(), to_pairs(m0), Ks[0], Ks[1])
-            errors[name].append(eval_metrics.pose_error(T, estimate))
-    return {name: {"pose_auc_5_10_20": [round(a, 4) for a in eval_metrics.pose_auc(e)], "pairs": len(e)}
-            for name, e in errors.items()}
+            for estimator in args.estimators:
+                for px in args.ransac_px:
+                    estimate = eval_metrics.relative_pose(kp0.cpu().numpy(), kp1.cpu().numpy(), to_pairs(m0),
+                                                          Ks[0], Ks[1], pixel_threshold=px,
+                                                          method=ESTIMATORS[estimator])
+                    results[name].setdefault(pose_key(estimator, px, args), []).append(
+                        eval_metrics.pose_error(T, estimate))
+    return summarise(results, args.raw_errors)
 
 
-def summarise(results):
+def summarise(results, raw_errors=False):
     out = {}
     for name, values in results.items():
-        row = {k: round(float(np.mean(v)), 4) for k, v in values.items() if k != "pose_error"}
-        if "pose_error" in values:
-            row["pose_auc_5_10_20"] = [round(a, 4) for a in eval_metrics.pose_auc(values["pose_error"])]
+        row = {k: round(float(np.mean(v)), 4) for k, v in values.items() if not k.startswith("pose_error")}
+        for key, errors in values.items():
+            if key.startswith("pose_error"):
+                row[key.replace("pose_error", "pose_auc_5_10_20")] = \
+                    [round(a, 4) for a in eval_metrics.pose_auc(errors)]
+                if raw_errors:
+                    row[key] = [round(e, 3) if np.isfinite(e) else None for e in errors]
         row["pairs"] = len(next(iter(values.values())))
         out[name] = row
     return out
@@ -192,6 +217,11 @@ def main():
     p.add_argument("--device", default="cpu")
     p.add_argument("--threads", type=int, default=2)
     p.add_argument("--no-adaptive", action="store_true", help="LightGlue with all layers and points")
+    p.add_argument("--ransac-px", type=float, nargs="+", default=[1.0],
+                   help="essential-matrix RANSAC thresholds in pixels (the first is the headline)")
+    p.add_argument("--estimators", nargs="+", default=["ransac"], choices=sorted(ESTIMATORS),
+                   help="essential-matrix estimators (ransac: OpenCV RANSAC; magsac: OpenCV MAGSAC++)")
+    p.add_argument("--raw-errors", action="store_true", help="also write every pair's pose error")
     p.add_argument("--out", default=None, help="JSON results file")
     args = p.parse_args()
     torch.set_num_threads(args.threads)

@@ -57,8 +57,11 @@ def match_precision(xy1, xy2, matches, H, distance=3.0):
     return float((error <= distance).mean())
 
 
-def relative_pose(xy0, xy1, matches, K0, K1, pixel_threshold=1.0):
-    """(R, t) from an essential matrix on normalised coordinates (RANSAC, threshold 1 px / mean focal), or None."""
+def relative_pose(xy0, xy1, matches, K0, K1, pixel_threshold=1.0, method=cv2.RANSAC):
+    """(R, t) from an essential matrix on normalised coordinates (RANSAC, threshold 1 px / mean focal), or None.
+
+    method: cv2.RANSAC (the default) or e.g. cv2.USAC_MAGSAC (MAGSAC++ with local optimisation: steadier on
+    short baselines, where one match more or less moves plain RANSAC's translation direction by degrees)."""
     if len(matches) < 5:
         return None
     def normalise(points, K):
@@ -67,7 +70,7 @@ def relative_pose(xy0, xy1, matches, K0, K1, pixel_threshold=1.0):
     p1 = normalise(xy1[matches[:, 1]].astype(np.float64), K1)
     threshold = pixel_threshold / np.mean([K0[0, 0], K0[1, 1], K1[0, 0], K1[1, 1]])
     cv2.setRNGSeed(0)
-    E, mask = cv2.findEssentialMat(p0, p1, np.eye(3), method=cv2.RANSAC, prob=0.99999, threshold=threshold)
+    E, mask = cv2.findEssentialMat(p0, p1, np.eye(3), method=method, prob=0.99999, threshold=threshold)
     if E is None:
         return None
     best, best_inliers = None, 0
