@@ -29,6 +29,8 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_DOUBLE_EQ(file.keyframes.line_angle_distance_deg, code.keyframes.line_angle_distance_deg);
   EXPECT_EQ(file.keyframes.line_min_angles, code.keyframes.line_min_angles);
   EXPECT_DOUBLE_EQ(file.klt.min_ncc, code.klt.min_ncc);
+  EXPECT_DOUBLE_EQ(file.klt.denoise_min_noise, code.klt.denoise_min_noise);
+  EXPECT_DOUBLE_EQ(file.klt.denoise_sigma_px, code.klt.denoise_sigma_px);
   EXPECT_EQ(file.init.max_frames, code.init.max_frames);
   EXPECT_EQ(file.init.stereo_min_points, code.init.stereo_min_points);
   EXPECT_EQ(file.pose.lost_frames_before_reset, code.pose.lost_frames_before_reset);
@@ -112,6 +114,8 @@ TEST(VoConfig, OutOfRangeValueIsRejected) {
   }
   EXPECT_THROW(VoConfig::load(write_yaml("type", "frontend:\n  type: sift\n")), InputError);
   EXPECT_THROW(VoConfig::load(write_yaml("notnum", "pose:\n  min_inliers: many\n")), InputError);
+  EXPECT_THROW(VoConfig::load(write_yaml("blur", "klt:\n  denoise_sigma_px: 9\n")), InputError);
+  EXPECT_THROW(VoConfig::load(write_yaml("noise", "klt:\n  denoise_min_noise: -1\n")), InputError);
 }
 
 }  // namespace

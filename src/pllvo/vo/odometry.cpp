@@ -5,6 +5,7 @@
 #include <map>
 #include <optional>
 
+#include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
 
 #include "pllvo/common/error.h"
@@ -110,6 +111,22 @@ void Odometry::normalize_brightness(cv::Mat& left, cv::Mat& right) const {
   }
 }
 
+void Odometry::denoise(cv::Mat& left, cv::Mat& right) {
+  const double sigma = config_.klt.denoise_sigma_px;
+  if (config_.klt.denoise_min_noise <= 0 || sigma <= 0) return;
+  const double noise = estimate_noise_sigma(left);
+  stats_.add_sample("image_noise", noise);
+  if (noise < config_.klt.denoise_min_noise) return;
+  cv::Mat l, r;
+  cv::GaussianBlur(left, l, cv::Size(), sigma);
+  left = l;
+  if (!right.empty()) {
+    cv::GaussianBlur(right, r, cv::Size(), sigma);
+    right = r;
+  }
+  stats_.add_count("denoised_frames");
+}
+
 FrameRecord Odometry::process(const io::Frame& frame) {
   ScopedTimer total(stats_, "frame");
   FrameRecord record;
@@ -121,6 +138,7 @@ FrameRecord Odometry::process(const io::Frame& frame) {
     rectifier_.apply(frame, left, right);
     frame_brightness_ = cv::mean(left)[0];
     normalize_brightness(left, right);
+    denoise(left, right);
   }
   ImagePyramid pyramid;
   {

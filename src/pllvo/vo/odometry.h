@@ -117,6 +117,8 @@ class Odometry {
   void handle_lost();
   void reset();
   geometry::Pose to_output(const geometry::Pose& T_world_work) const;
+  /// Smooths both images when the left one's noise reaches klt.denoise_min_noise (low light).
+  void denoise(cv::Mat& left, cv::Mat& right);
   /// Scales both images by one gain so that the left image's mean is klt.normalize_mean.
   void normalize_brightness(cv::Mat& left, cv::Mat& right) const;
   /// Too few tracks survived: tracks them again on locally contrast-normalised images

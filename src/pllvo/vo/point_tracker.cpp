@@ -1,6 +1,7 @@
 #include "pllvo/vo/point_tracker.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include <opencv2/imgproc.hpp>
@@ -76,6 +77,17 @@ cv::Mat local_contrast(const cv::Mat& image, int window) {
   cv::Mat normalised = (f - mean) / (sd + 6.0);
   normalised.convertTo(out, CV_8U, 40.0, 128.0);
   return out;
+}
+
+double estimate_noise_sigma(const cv::Mat& image) {
+  if (image.cols < 8 || image.rows < 8) return 0.0;
+  const cv::Rect centre(image.cols / 4, image.rows / 4, image.cols / 2, image.rows / 2);
+  cv::Mat f, response;
+  image(centre).convertTo(f, CV_32F);
+  const cv::Mat kernel = (cv::Mat_<float>(3, 3) << 1, -2, 1, -2, 4, -2, 1, -2, 1);
+  cv::filter2D(f, response, CV_32F, kernel, cv::Point(-1, -1), 0, cv::BORDER_REFLECT);
+  const cv::Mat inner = cv::abs(response(cv::Rect(1, 1, response.cols - 2, response.rows - 2)));
+  return std::sqrt(CV_PI / 2.0) * cv::mean(inner)[0] / 6.0;
 }
 
 double patch_ncc(const cv::Mat& a, cv::Point2f pa, const cv::Mat& b, cv::Point2f pb, int size) {

@@ -52,6 +52,11 @@ class PointTracker {
 /// unevenly across the image.
 cv::Mat local_contrast(const cv::Mat& image, int window);
 
+/// Standard deviation of the image's pixel noise in grey levels, from the mean absolute
+/// response to a 3x3 operator that cancels locally linear intensity (Immerkaer 1996), over
+/// the central half of the image (edges of the scene raise it a little; flat noise dominates).
+double estimate_noise_sigma(const cv::Mat& image);
+
 /// Normalised cross-correlation of the size x size patches around two sub-pixel points;
 /// insensitive to gain and offset, so it holds across exposure changes.
 double patch_ncc(const cv::Mat& a, cv::Point2f pa, const cv::Mat& b, cv::Point2f pb, int size = 9);

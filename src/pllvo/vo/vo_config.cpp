@@ -36,6 +36,8 @@ void read_klt(const ConfigNode& n, KltConfig& c) {
   n.get("max_normalize_gain", c.max_normalize_gain);
   n.get("contrast_fallback_share", c.contrast_fallback_share);
   n.get("contrast_window_px", c.contrast_window_px);
+  n.get("denoise_min_noise", c.denoise_min_noise);
+  n.get("denoise_sigma_px", c.denoise_sigma_px);
   n.get("border_px", c.border_px);
   n.reject_unknown_keys();
 }
@@ -146,6 +148,8 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(klt.contrast_fallback_share >= 0 && klt.contrast_fallback_share <= 1, file, "klt.contrast_fallback_share",
           "must be in [0, 1]");
   require(klt.contrast_window_px >= 3, file, "klt.contrast_window_px", "must be at least 3");
+  require(klt.denoise_min_noise >= 0, file, "klt.denoise_min_noise", "must be >= 0 (0: off)");
+  require(klt.denoise_sigma_px >= 0 && klt.denoise_sigma_px <= 5, file, "klt.denoise_sigma_px", "must be in [0, 5]");
   require(keyframes.min_tracked_ratio >= 0 && keyframes.min_tracked_ratio <= 1, file,
           "keyframes.min_tracked_ratio", "must be in [0, 1]");
   require(keyframes.max_interval_s > 0, file, "keyframes.max_interval_s", "must be positive");
