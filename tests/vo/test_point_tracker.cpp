@@ -34,6 +34,15 @@ std::vector<cv::Point2f> grid_points(cv::Size size, int step, int margin) {
   return pts;
 }
 
+/// Share of `pts` that the tracker follows from `from` to `to` within `tolerance_px` of the true shift.
+double share_followed(const PointTracker& tracker, const cv::Mat& from, const cv::Mat& to,
+                      const std::vector<cv::Point2f>& pts, cv::Point2f shift, double tolerance_px) {
+  const TrackResult r = tracker.track(tracker.build_pyramid(from), tracker.build_pyramid(to), pts);
+  int good = 0;
+  for (size_t i = 0; i < pts.size(); ++i) good += r.ok[i] && cv::norm(r.points[i] - pts[i] - shift) < tolerance_px;
+  return static_cast<double>(good) / static_cast<double>(pts.size());
+}
+
 TEST(PointTracker, LocalContrastFollowsAnUnevenClippedExposureJump) {
   // A sudden exposure jump that is not one gain: the right half 1.8x brighter with its
   // highlights clipped (what medium_sudden and uneven flicker do). LK on the images loses
@@ -49,11 +58,7 @@ TEST(PointTracker, LocalContrastFollowsAnUnevenClippedExposureJump) {
   const PointTracker tracker(config);
   const auto pts = grid_points(a.size(), 16, 24);
   auto followed = [&](const cv::Mat& from, const cv::Mat& to) {
-    const TrackResult r = tracker.track(tracker.build_pyramid(from), tracker.build_pyramid(to), pts);
-    int good = 0;
-    for (size_t i = 0; i < pts.size(); ++i)
-      good += r.ok[i] && cv::norm(r.points[i] - pts[i] - cv::Point2f(dx, dy)) < 0.5;
-    return static_cast<double>(good) / static_cast<double>(pts.size());
+    return share_followed(tracker, from, to, pts, cv::Point2f(dx, dy), 0.5);
   };
   const double plain = followed(a, b);
   const double local = followed(local_contrast(a, 15), local_contrast(b, 15));
@@ -99,11 +104,7 @@ TEST(PointTracker, SmoothingKeepsTracksThroughLowLightNoise) {
   const PointTracker tracker(config);
   const auto pts = grid_points(a.size(), 16, 24);
   auto followed = [&](const cv::Mat& from, const cv::Mat& to) {
-    const TrackResult r = tracker.track(tracker.build_pyramid(from), tracker.build_pyramid(to), pts);
-    int good = 0;
-    for (size_t i = 0; i < pts.size(); ++i)
-      good += r.ok[i] && cv::norm(r.points[i] - pts[i] - cv::Point2f(dx, dy)) < 0.75;
-    return static_cast<double>(good) / static_cast<double>(pts.size());
+    return share_followed(tracker, from, to, pts, cv::Point2f(dx, dy), 0.75);
   };
   cv::Mat sa, sb;
   cv::GaussianBlur(a, sa, cv::Size(), config.denoise_sigma_px);
