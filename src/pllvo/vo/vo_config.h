@@ -71,10 +71,10 @@ struct KltConfig {
   /// Sensor noise: when the noise of a frame after the gain above (standard deviation in grey
   /// levels, estimated from the image itself) reaches `denoise_min_noise`, both images are
   /// smoothed with a Gaussian of `denoise_sigma_px` before tracking and detection. In low light
-  /// the gain multiplies the shot and read noise (sigma 11-16 on the low-light sequences,
-  /// <= 5 elsewhere) and the NCC check then rejects most correct tracks: on difficult_lowlight
-  /// frames, 13-38 of 300 corners survive FB + NCC raw, 63-87 after a 1.5 px blur
-  /// (docs/vo.md, session 4). 0: off.
+  /// the gain multiplies the shot and read noise (on the undistorted working images: 4-8 on the
+  /// suite's low-light sequences, <= 2.5 on all others; 11-16 on the raw frames) and the NCC check
+  /// then rejects most correct tracks: on difficult_lowlight frames, 13-38 of 300 corners survive
+  /// FB + NCC raw, 63-87 after a 1.5 px blur (docs/vo.md, session 4). 0: off.
   double denoise_min_noise = 6.0;
   double denoise_sigma_px = 1.5;
 };
