@@ -13,29 +13,17 @@ import math
 import sys
 
 
-def read_tum(path):
+def read_positions(path, separator, seconds_per_unit, layout):
+    """{time in s (to the ms): (x, y, z)} from a file whose lines start with time, x, y, z."""
     poses = {}
     with open(path) as f:
         for n, line in enumerate(f, 1):
             if line.startswith("#") or not line.strip():
                 continue
-            v = line.split()
+            v = line.strip().split(separator)
             if len(v) < 4:
-                sys.exit(f"scale_ratio: error: {path}:{n}: expected 'time x y z ...'")
-            poses[round(float(v[0]), 3)] = tuple(float(x) for x in v[1:4])
-    return poses
-
-
-def read_euroc(path):
-    poses = {}
-    with open(path) as f:
-        for n, line in enumerate(f, 1):
-            if line.startswith("#") or not line.strip():
-                continue
-            v = line.strip().split(",")
-            if len(v) < 4:
-                sys.exit(f"scale_ratio: error: {path}:{n}: expected 'ns,x,y,z,...'")
-            poses[round(int(v[0]) * 1e-9, 3)] = tuple(float(x) for x in v[1:4])
+                sys.exit(f"scale_ratio: error: {path}:{n}: expected '{layout}'")
+            poses[round(float(v[0]) * seconds_per_unit, 3)] = tuple(float(x) for x in v[1:4])
     return poses
 
 
@@ -45,7 +33,8 @@ def main():
     p.add_argument("truth")
     p.add_argument("--window", type=int, default=10, help="frames per window")
     args = p.parse_args()
-    est, gt = read_tum(args.estimate), read_euroc(args.truth)
+    est = read_positions(args.estimate, None, 1.0, "time x y z ...")
+    gt = read_positions(args.truth, ",", 1e-9, "ns,x,y,z,...")
     times = sorted(t for t in est if t in gt)
     if len(times) <= args.window:
         sys.exit("scale_ratio: error: fewer paired poses than one window")
