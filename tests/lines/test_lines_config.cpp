@@ -34,6 +34,15 @@ TEST(LinesConfig, DefaultFileMatchesTheDefaultsInCode) {
   EXPECT_EQ(file.cross_constraint.max_overlap_angle_deg, code.cross_constraint.max_overlap_angle_deg);
   EXPECT_EQ(file.overlap_angles.histogram_bins, code.overlap_angles.histogram_bins);
   EXPECT_EQ(file.associator.max_descriptor_distance, code.associator.max_descriptor_distance);
+  EXPECT_EQ(file.stereo.enabled, code.stereo.enabled);
+  EXPECT_EQ(file.stereo.max_angle_deg, code.stereo.max_angle_deg);
+  EXPECT_EQ(file.stereo.min_angle_from_horizontal_deg, code.stereo.min_angle_from_horizontal_deg);
+  EXPECT_EQ(file.stereo.min_row_overlap, code.stereo.min_row_overlap);
+  EXPECT_EQ(file.stereo.min_disparity_px, code.stereo.min_disparity_px);
+  EXPECT_EQ(file.stereo.max_disparity_px, code.stereo.max_disparity_px);
+  EXPECT_EQ(file.stereo.max_descriptor_distance, code.stereo.max_descriptor_distance);
+  EXPECT_EQ(file.stereo.descriptor_ratio, code.stereo.descriptor_ratio);
+  EXPECT_EQ(file.stereo.min_plane_angle_deg, code.stereo.min_plane_angle_deg);
 }
 
 TEST(LinesConfig, OverridesAndErrorsNameTheKey) {

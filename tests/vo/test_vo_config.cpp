@@ -28,6 +28,8 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_DOUBLE_EQ(file.keyframes.min_interval_s, code.keyframes.min_interval_s);
   EXPECT_DOUBLE_EQ(file.keyframes.line_angle_distance_deg, code.keyframes.line_angle_distance_deg);
   EXPECT_EQ(file.keyframes.line_min_angles, code.keyframes.line_min_angles);
+  EXPECT_DOUBLE_EQ(file.keyframes.mono_min_candidate_parallax_deg, code.keyframes.mono_min_candidate_parallax_deg);
+  EXPECT_EQ(file.keyframes.mono_min_tracked_points, code.keyframes.mono_min_tracked_points);
   EXPECT_DOUBLE_EQ(file.klt.min_ncc, code.klt.min_ncc);
   EXPECT_DOUBLE_EQ(file.klt.denoise_min_noise, code.klt.denoise_min_noise);
   EXPECT_DOUBLE_EQ(file.klt.denoise_sigma_px, code.klt.denoise_sigma_px);
@@ -116,6 +118,8 @@ TEST(VoConfig, OutOfRangeValueIsRejected) {
   EXPECT_THROW(VoConfig::load(write_yaml("notnum", "pose:\n  min_inliers: many\n")), InputError);
   EXPECT_THROW(VoConfig::load(write_yaml("blur", "klt:\n  denoise_sigma_px: 9\n")), InputError);
   EXPECT_THROW(VoConfig::load(write_yaml("noise", "klt:\n  denoise_min_noise: -1\n")), InputError);
+  EXPECT_THROW(VoConfig::load(write_yaml("parallax", "keyframes:\n  mono_min_candidate_parallax_deg: -1\n")),
+               InputError);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@ enum class KeyframeReason {
   kInitialization,    ///< first keyframe(s) of a map
   kFewPoints,         ///< (1) tracked points below the minimum count
   kTrackingQuality,   ///< (1) share of the keyframe's points still tracked below the ratio
+                      ///<     (mono: once candidates have parallax, or map points run out)
   kMaxInterval,       ///< (2) too long since the last keyframe
   kIdleInterval,      ///< (2) back end idle and the minimum interval passed
   kLineAngles,        ///< (3) the line overlap-angle set changed beyond its threshold
@@ -33,6 +34,9 @@ struct FrameTrackingState {
   /// (lines::overlap_angle_distance, paper eq. 9); nullopt when lines are not used or the
   /// sets hold too few angles to describe the view.
   std::optional<double> line_angle_distance_deg;
+  /// Monocular: median parallax (degrees, rotation removed) of the candidate points since
+  /// their first keyframe; nullopt in stereo or with too few candidates.
+  std::optional<double> candidate_parallax_deg;
 };
 
 class KeyframePolicy {
@@ -53,6 +57,8 @@ class KeyframePolicy {
   int reference_points() const { return reference_points_; }
 
  private:
+  bool waiting_for_parallax(const FrameTrackingState& frame) const;
+
   KeyframePolicyConfig config_;
   bool has_reference_ = false;
   double reference_time_ = 0;

@@ -96,6 +96,17 @@ std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::stereo_points(con
   return out;
 }
 
+bool KeyframeProcessor::stereo_start_ok(const std::vector<std::optional<Eigen::Vector3d>>& stereo,
+                                        const LinePlan& lines) const {
+  // A stereo line constrains the pose like a point does (two residuals); PnP still needs its
+  // minimum of points to seed the pose of the frames that follow.
+  const auto points = std::count_if(stereo.begin(), stereo.end(), [](const auto& p) { return p.has_value(); });
+  const bool ok = points >= config_.geometry.pnp.min_inliers &&
+                  points + lines.from_stereo >= config_.init.stereo_min_points;
+  if (!ok) spdlog::debug("stereo start: {} points and {} lines, not enough", points, lines.from_stereo);
+  return ok;
+}
+
 geometry::Pose KeyframeProcessor::current_pose(const KeyframeJob& job) {
   // The tracker estimated the pose against the map as it was then; the bundle adjustments
   // that ran since moved points and keyframes. Triangulating against the refreshed map keeps
@@ -223,18 +234,16 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job) {
       triangulated[i] = triangulate_point(camera_, v.T_world_cam, v.px, config_.geometry.point_triangulation);
     }
   }
-  if (job.first) {
-    const auto made = std::count_if(stereo.begin(), stereo.end(), [](const auto& p) { return p.has_value(); });
-    if (made < config_.init.stereo_min_points) return result;
-  }
-
   LinePlan line_plan;
   if (line_mapper_) {
     ScopedTimer t(stats_, "kf_lines");
     line_plan = line_mapper_->plan(job.left, job.T_world_cam, job.lines, has_prev ? &prev : nullptr,
-                                   point_matches_with(prev, has_prev, features, ids, previous, matches), map_);
+                                   point_matches_with(prev, has_prev, features, ids, previous, matches), map_,
+                                   job.right, baseline_);
     stats_.add_sample("kf_lines", static_cast<double>(line_plan.segments.size()));
+    if (!job.right.empty()) stats_.add_sample("kf_stereo_lines", line_plan.from_stereo);
   }
+  if (job.first && !stereo_start_ok(stereo, line_plan)) return result;
 
   Id kid = kNoId;
   int new_points = 0;

@@ -45,7 +45,8 @@ std::vector<lines::LineSegment> LineMapper::detect(const cv::Mat& image) {
 
 LinePlan LineMapper::plan(const cv::Mat& image, const geometry::Pose& T_world_cam,
                           const std::vector<TrackedLine>& tracked, const Keyframe* previous,
-                          const std::vector<lines::PointMatch>& point_matches, const Map& map) {
+                          const std::vector<lines::PointMatch>& point_matches, const Map& map,
+                          const cv::Mat& right, double baseline) {
   LinePlan plan;
   plan.segments = detect(image);
   const size_t m = plan.segments.size();
@@ -155,7 +156,42 @@ LinePlan LineMapper::plan(const cv::Mat& image, const geometry::Pose& T_world_ca
       break;
     }
   }
+  if (!right.empty() && baseline > 0 && config_.stereo.enabled) triangulate_stereo(image, right, baseline, T_world_cam, plan);
   return plan;
+}
+
+void LineMapper::triangulate_stereo(const cv::Mat& image, const cv::Mat& right, double baseline,
+                                    const geometry::Pose& T_world_cam, LinePlan& plan) {
+  const size_t m = plan.segments.size();
+  std::vector<lines::LineSegment> left;
+  std::vector<int> index;  // plan index per left line to match
+  for (size_t j = 0; j < m; ++j)
+    if (plan.ids[j] == kNoId && !plan.triangulated[j]) left.push_back(plan.segments[j]), index.push_back(static_cast<int>(j));
+  if (left.empty()) return;
+  const auto right_segments = detect(right);
+  if (right_segments.empty()) return;
+  cv::Mat left_desc, right_desc;
+  if (config_.associator.use_descriptors) {
+    left_desc = lines::compute_lbd_descriptors(image, left);
+    right_desc = lines::compute_lbd_descriptors(right, right_segments);
+  }
+  // Rectified pair: the right camera sits at +baseline along the left camera's x axis.
+  geometry::Pose T_left_right = geometry::Pose::Identity();
+  T_left_right.translation() = Eigen::Vector3d(baseline, 0, 0);
+  const geometry::Pose T_world_right = T_world_cam * T_left_right;
+  geometry::LineTriangulationConfig stereo = triangulation_;
+  stereo.min_plane_angle_deg = config_.stereo.min_plane_angle_deg;
+  const auto stereo_matches = lines::match_stereo_lines(left, right_segments, left_desc, right_desc, config_.stereo);
+  for (const auto& mt : stereo_matches) {
+    const auto& l = left[mt.a];
+    const auto& r = right_segments[mt.b];
+    const auto t = geometry::triangulate_line(T_world_cam, camera_.normalised(l.start), camera_.normalised(l.end),
+                                              T_world_right, camera_.normalised(r.start), camera_.normalised(r.end),
+                                              stereo);
+    if (!t.ok()) continue;
+    plan.triangulated[index[mt.a]] = t.segment_world;
+    ++plan.from_stereo;
+  }
 }
 
 int LineMapper::commit(MapData& map, Id kf, const LinePlan& plan) {

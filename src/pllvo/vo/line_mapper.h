@@ -38,6 +38,7 @@ struct LinePlan {
   std::vector<Observation> previous;          ///< candidates: latest earlier observation, if newer than origin
   std::vector<std::optional<geometry::LineSegment3d>> triangulated;  ///< new map lines (world)
   int from_tracks = 0, from_association = 0;
+  int from_stereo = 0;  ///< new map lines triangulated from the left-right pair
 };
 
 class LineMapper {
@@ -48,8 +49,11 @@ class LineMapper {
   /// Detects the keyframe's lines and decides their identities and new 3-D lines.
   /// `previous` is the previous keyframe of the segment (null for the first one);
   /// `point_matches` pairs pixels of the same points in `previous` and this keyframe.
+  /// With a rectified right image (`baseline` > 0), lines left without a 3-D line are matched
+  /// left-right and triangulated at metric scale.
   LinePlan plan(const cv::Mat& image, const geometry::Pose& T_world_cam, const std::vector<TrackedLine>& tracked,
-                const Keyframe* previous, const std::vector<lines::PointMatch>& point_matches, const Map& map);
+                const Keyframe* previous, const std::vector<lines::PointMatch>& point_matches, const Map& map,
+                const cv::Mat& right = {}, double baseline = 0.0);
 
   /// Stores the plan's lines in keyframe `kf` (already added with plan.segments as its lines).
   /// Returns the number of new map lines.
@@ -59,6 +63,9 @@ class LineMapper {
   std::vector<lines::LineSegment> detect(const cv::Mat& image);
 
  private:
+  void triangulate_stereo(const cv::Mat& image, const cv::Mat& right, double baseline,
+                          const geometry::Pose& T_world_cam, LinePlan& plan);
+
   lines::LinesConfig config_;
   geometry::LineTriangulationConfig triangulation_;
   Pinhole camera_;

@@ -474,12 +474,14 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     std::optional<geometry::Pose> predicted;
     if (config_.pose.use_motion_prior && has_velocity_) predicted = T_world_pred;
     estimate = estimate_pose(camera_, pts, px, line_measurements, predicted, config_.geometry, config_.backend);
-    if (!estimate.ok && predicted && config_.pose.min_inliers_with_prior > 0) {
+    if (!estimate.ok && config_.pose.min_inliers_with_prior > 0 && (predicted || config_.pose.use_motion_prior)) {
       // Too few points for PnP (a textureless stretch): the constant-velocity prediction
-      // carries the pose while a few observations still agree with it.
+      // carries the pose while a few observations (points and lines) still agree with it.
+      // Right after a start there is no velocity yet: the last pose (no motion) is the prior.
       backend::BackendConfig weak = config_.backend;
       weak.pose_refiner.min_inliers = config_.pose.min_inliers_with_prior;
-      estimate = estimate_pose(camera_, pts, px, line_measurements, predicted, config_.geometry, weak);
+      estimate = estimate_pose(camera_, pts, px, line_measurements, predicted ? predicted : T_world_work_,
+                               config_.geometry, weak);
       if (estimate.ok) stats_.add_count("prior_supported_poses");
     }
   }
@@ -539,6 +541,7 @@ void Odometry::maybe_make_keyframe(const io::Frame& frame, const cv::Mat& left, 
   state.tracked_points = tracked_points;
   state.backend_idle = worker_.idle();
   state.line_angle_distance_deg = line_angle_distance();
+  state.candidate_parallax_deg = candidate_parallax_deg();
   const KeyframeReason reason = policy_.decide(state);
   if (reason == KeyframeReason::kNone) return;
   if (worker_.pending() >= kMaxPendingKeyframes) {
@@ -849,6 +852,30 @@ std::optional<double> Odometry::line_angle_distance() const {
   const size_t min_angles = static_cast<size_t>(config_.keyframes.line_min_angles);
   if (current.size() < min_angles || reference_angles_.size() < min_angles) return std::nullopt;
   return lines::overlap_angle_distance(reference_angles_, current);
+}
+
+std::optional<double> Odometry::candidate_parallax_deg() const {
+  constexpr size_t kMinCandidates = 10;
+  if (rectifier_.stereo() || config_.keyframes.mono_min_candidate_parallax_deg <= 0) return std::nullopt;
+  auto bearing = [&](const Eigen::Matrix3d& R_world_cam, const Eigen::Vector2d& px) {
+    return (R_world_cam * camera_.normalised(px).homogeneous()).normalized().eval();
+  };
+  const Eigen::Matrix3d R_world_now = T_world_work_.linear();
+  std::vector<double> angles;
+  map_.read([&](const MapData& m) {
+    for (const auto& t : tracks_) {
+      if (t.point != kNoId || t.origin.keyframe == kNoId) continue;
+      auto kf = m.keyframes.find(t.origin.keyframe);
+      if (kf == m.keyframes.end() || t.origin.index < 0 ||
+          t.origin.index >= static_cast<int>(kf->second.features.size()))
+        continue;
+      const Eigen::Vector3d a = bearing(kf->second.T_world_cam.linear(), to_eigen(kf->second.features.points[t.origin.index]));
+      const Eigen::Vector3d b = bearing(R_world_now, to_eigen(t.px));
+      angles.push_back(std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI);
+    }
+  });
+  if (angles.size() < kMinCandidates) return std::nullopt;
+  return median(angles);
 }
 
 // ---------------------------------------------------------------- failure

@@ -114,6 +114,9 @@ class Odometry {
                                        lines::LineDetector* detector = nullptr) const;
   void set_reference_lines(const std::vector<TrackedLine>& lines);
   std::optional<double> line_angle_distance() const;
+  /// Monocular: median parallax of the candidate tracks since their first keyframe (degrees,
+  /// rotation removed); nullopt in stereo or with fewer than kMinCandidates of them.
+  std::optional<double> candidate_parallax_deg() const;
   void handle_lost();
   void reset();
   geometry::Pose to_output(const geometry::Pose& T_world_work) const;

@@ -46,6 +46,8 @@ void read_keyframes(const ConfigNode& n, KeyframePolicyConfig& c) {
   n.get("use_point_trigger", c.use_point_trigger);
   n.get("min_tracked_points", c.min_tracked_points);
   n.get("min_tracked_ratio", c.min_tracked_ratio);
+  n.get("mono_min_candidate_parallax_deg", c.mono_min_candidate_parallax_deg);
+  n.get("mono_min_tracked_points", c.mono_min_tracked_points);
   n.get("use_time_trigger", c.use_time_trigger);
   n.get("max_interval_s", c.max_interval_s);
   n.get("min_interval_s", c.min_interval_s);
@@ -152,6 +154,9 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(klt.denoise_sigma_px >= 0 && klt.denoise_sigma_px <= 5, file, "klt.denoise_sigma_px", "must be in [0, 5]");
   require(keyframes.min_tracked_ratio >= 0 && keyframes.min_tracked_ratio <= 1, file,
           "keyframes.min_tracked_ratio", "must be in [0, 1]");
+  require(keyframes.mono_min_candidate_parallax_deg >= 0, file, "keyframes.mono_min_candidate_parallax_deg",
+          "must be >= 0 (0: off)");
+  require(keyframes.mono_min_tracked_points >= 0, file, "keyframes.mono_min_tracked_points", "must be >= 0");
   require(keyframes.max_interval_s > 0, file, "keyframes.max_interval_s", "must be positive");
   require(keyframes.min_interval_s >= 0 && keyframes.min_interval_s <= keyframes.max_interval_s, file,
           "keyframes.min_interval_s", "must be in [0, max_interval_s]");

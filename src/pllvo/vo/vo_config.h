@@ -85,6 +85,13 @@ struct KeyframePolicyConfig {
   bool use_point_trigger = true;
   int min_tracked_points = 60;
   double min_tracked_ratio = 0.5;  ///< tracked now / tracked right after the keyframe
+  /// Monocular only: while the new candidate points (tracked since their first keyframe, not
+  /// yet triangulated) have a median parallax below this (degrees, rotation removed), a
+  /// keyframe would add no points, only another short-baseline view: the point rule waits,
+  /// unless fewer than mono_min_tracked_points map points remain. 0: off, the default:
+  /// measured mixed over 4 start frames (docs/vo.md, session 5; 1.0 is the value measured).
+  double mono_min_candidate_parallax_deg = 0.0;
+  int mono_min_tracked_points = 30;
   // (2) time: a keyframe at least every max_interval_s; when the back end is idle, already
   // after min_interval_s (it has time to spare, and fresh keyframes keep the map dense).
   bool use_time_trigger = true;
@@ -104,7 +111,9 @@ struct InitConfig {
   int min_points = 50;            ///< tracked points needed to try
   double mono_min_flow_px = 20.0; ///< median image motion before a two-view attempt
   int max_frames = 60;            ///< give up on a reference frame after this many frames
-  int stereo_min_points = 30;     ///< stereo points needed for the first keyframe
+  /// Stereo points plus stereo lines needed for the first keyframe (of which at least
+  /// geometry.pnp.min_inliers points: PnP seeds the next frames' poses).
+  int stereo_min_points = 30;
   /// No map is started on a frame darker than this mean grey level: there, what the
   /// contrast-stretched detector finds is mostly sensor noise.
   double min_brightness = 10.0;

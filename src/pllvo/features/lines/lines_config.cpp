@@ -8,6 +8,7 @@ void LinesConfig::load(const ConfigNode& node) {
   cross_constraint.load(node.child("cross_constraint"));
   overlap_angles.load(node.child("overlap_angles"));
   associator.load(node.child("associator"));
+  stereo.load(node.child("stereo"));
   node.reject_unknown_keys();
 }
 

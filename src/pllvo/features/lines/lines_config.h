@@ -1,6 +1,6 @@
 #pragma once
 // All settings of the line front end in one struct, loadable from YAML (config/lines.yaml):
-//   detector: {...}  tracker: {...}  cross_constraint: {...}  overlap_angles: {...}  associator: {...}
+//   detector: {...}  tracker: {...}  cross_constraint: {...}  overlap_angles: {...}  associator: {...}  stereo: {...}
 // Every key is optional (defaults in code); unknown keys are an error.
 #include <filesystem>
 
@@ -10,6 +10,7 @@
 #include "pllvo/features/lines/line_detector.h"
 #include "pllvo/features/lines/line_tracker.h"
 #include "pllvo/features/lines/overlap_angles.h"
+#include "pllvo/features/lines/stereo_line_matcher.h"
 
 namespace pllvo::lines {
 
@@ -19,6 +20,7 @@ struct LinesConfig {
   CrossConstraintConfig cross_constraint;
   OverlapAngleConfig overlap_angles;
   LineAssociatorConfig associator;
+  StereoLineMatcherConfig stereo;
 
   void load(const ConfigNode& node);
 };

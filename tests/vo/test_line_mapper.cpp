@@ -1,0 +1,74 @@
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "pllvo/vo/line_mapper.h"
+
+using namespace pllvo;
+using V3 = Eigen::Vector3d;
+
+namespace {
+// A rectified stereo pair looking at dark and bright rectangles at known depths
+// (fronto-parallel, so every edge of a rectangle lies at its depth).
+struct Rectangle {
+  double x0, y0, x1, y1, z;
+  int grey;
+};
+
+constexpr double kBaseline = 0.11;
+
+vo::Pinhole rectified_camera() {
+  vo::Pinhole c;
+  c.fx = c.fy = 460.0;
+  c.cx = 376.0;
+  c.cy = 240.0;
+  c.width = 752;
+  c.height = 480;
+  return c;
+}
+
+cv::Mat render(const std::vector<Rectangle>& rects, double camera_x) {
+  const vo::Pinhole c = rectified_camera();
+  cv::Mat image(c.height, c.width, CV_8U, cv::Scalar(128));
+  constexpr int kShift = 4;  // sub-pixel vertices
+  for (const auto& r : rects) {  // far to near
+    std::vector<cv::Point> poly;
+    for (const auto& [x, y] : {std::pair{r.x0, r.y0}, {r.x1, r.y0}, {r.x1, r.y1}, {r.x0, r.y1}}) {
+      Eigen::Vector2d px;
+      c.project(V3(x - camera_x, y, r.z), px);
+      poly.emplace_back(cvRound(px.x() * (1 << kShift)), cvRound(px.y() * (1 << kShift)));
+    }
+    cv::fillConvexPoly(image, poly, cv::Scalar(r.grey), cv::LINE_AA, kShift);
+  }
+  return image;
+}
+}  // namespace
+
+TEST(LineMapper, StereoKeyframeTriangulatesLinesAtTheirMetricDepth) {
+  // A slight tilt of every rectangle's x edges keeps the vertical edges off the image columns.
+  const std::vector<Rectangle> rects = {{-1.6, -1.0, -0.4, 0.9, 4.5, 40},
+                                        {0.3, -0.8, 1.5, 0.6, 3.0, 215},
+                                        {-0.5, -0.3, 0.2, 0.7, 2.0, 60}};
+  const cv::Mat left = render(rects, 0.0), right = render(rects, kBaseline);
+  lines::LinesConfig config;
+  config.stereo.enabled = true;
+  vo::LineMapper mapper(config, geometry::LineTriangulationConfig{}, rectified_camera());
+  vo::Map map;
+  const auto plan = mapper.plan(left, geometry::Pose::Identity(), {}, nullptr, {}, map, right, kBaseline);
+  ASSERT_GE(plan.segments.size(), 6u);
+  // The vertical edges (two per rectangle, when not hidden) give stereo lines; horizontal ones cannot.
+  EXPECT_GE(plan.from_stereo, 4);
+  int checked = 0;
+  for (const auto& t : plan.triangulated) {
+    if (!t) continue;
+    ++checked;
+    double best = 1e9;
+    for (const auto& r : rects)
+      best = std::min(best, std::max(std::abs(t->start.z() - r.z), std::abs(t->end.z() - r.z)) / r.z);
+    EXPECT_LT(best, 0.04) << "line at depth " << t->start.z() << " .. " << t->end.z();
+  }
+  EXPECT_EQ(checked, plan.from_stereo);
+  // Without the right image, the first keyframe has no 3-D lines.
+  const auto mono = mapper.plan(left, geometry::Pose::Identity(), {}, nullptr, {}, map);
+  EXPECT_EQ(mono.from_stereo, 0);
+}
