@@ -116,6 +116,12 @@ std::optional<Eigen::Vector3d> triangulate_point(const Pinhole& cam, const std::
   return t.p_world;
 }
 
+geometry::Pose T_left_right(double baseline) {
+  geometry::Pose T = geometry::Pose::Identity();
+  T.translation() = Eigen::Vector3d(baseline, 0, 0);
+  return T;
+}
+
 std::optional<Eigen::Vector3d> triangulate_stereo(const Pinhole& cam, double baseline, const Eigen::Vector2d& left,
                                                   const Eigen::Vector2d& right,
                                                   const geometry::StereoTriangulationConfig& config) {
@@ -133,12 +139,7 @@ WindowBaResult bundle_adjust_window(Map& map, const Pinhole& cam, double baselin
   if (window.size() < 2) return result;
   backend::BaProblem problem;
   problem.focal_px = cam.focal();
-  if (baseline > 0) {
-    // Rectified pair: the right camera sits at +baseline along the left camera's x axis.
-    geometry::Pose T_cam1_cam0 = geometry::Pose::Identity();
-    T_cam1_cam0.translation() = Eigen::Vector3d(-baseline, 0, 0);
-    problem.T_cam_cam0 = {geometry::Pose::Identity(), T_cam1_cam0};
-  }
+  if (baseline > 0) problem.T_cam_cam0 = {geometry::Pose::Identity(), T_left_right(baseline).inverse()};
   std::vector<Id> keyframes, points, lines;
   std::vector<Observation> point_refs, line_refs;  // (keyframe, feature/line index) per observation
 

@@ -72,6 +72,9 @@ std::optional<Eigen::Vector3d> triangulate_point(const Pinhole& cam, const std::
                                                  const std::vector<Eigen::Vector2d>& pixels,
                                                  const geometry::PointTriangulationConfig& config);
 
+/// Pose of the right rectified camera in the left one: +baseline along the left camera's x axis.
+geometry::Pose T_left_right(double baseline);
+
 /// Point in the left rectified camera from a left-right match.
 std::optional<Eigen::Vector3d> triangulate_stereo(const Pinhole& cam, double baseline, const Eigen::Vector2d& left,
                                                   const Eigen::Vector2d& right,

@@ -97,13 +97,13 @@ std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::stereo_points(con
 }
 
 bool KeyframeProcessor::stereo_start_ok(const std::vector<std::optional<Eigen::Vector3d>>& stereo,
-                                        const LinePlan& lines) const {
+                                        int stereo_lines) const {
   // A stereo line constrains the pose like a point does (two residuals); PnP still needs its
   // minimum of points to seed the pose of the frames that follow.
   const auto points = std::count_if(stereo.begin(), stereo.end(), [](const auto& p) { return p.has_value(); });
   const bool ok = points >= config_.geometry.pnp.min_inliers &&
-                  points + lines.from_stereo >= config_.init.stereo_min_points;
-  if (!ok) spdlog::debug("stereo start: {} points and {} lines, not enough", points, lines.from_stereo);
+                  points + stereo_lines >= config_.init.stereo_min_points;
+  if (!ok) spdlog::debug("stereo start: {} points and {} lines, not enough", points, stereo_lines);
   return ok;
 }
 
@@ -234,6 +234,10 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job) {
       triangulated[i] = triangulate_point(camera_, v.T_world_cam, v.px, config_.geometry.point_triangulation);
     }
   }
+  // Without stereo lines the points alone decide a stereo start: no line work on a failed one.
+  const bool stereo_lines = line_mapper_ && config_.lines.stereo.enabled && !job.right.empty();
+  if (job.first && !stereo_lines && !stereo_start_ok(stereo, 0)) return result;
+
   LinePlan line_plan;
   if (line_mapper_) {
     ScopedTimer t(stats_, "kf_lines");
@@ -241,9 +245,9 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job) {
                                    point_matches_with(prev, has_prev, features, ids, previous, matches), map_,
                                    job.right, baseline_);
     stats_.add_sample("kf_lines", static_cast<double>(line_plan.segments.size()));
-    if (!job.right.empty()) stats_.add_sample("kf_stereo_lines", line_plan.from_stereo);
+    if (stereo_lines) stats_.add_sample("kf_stereo_lines", line_plan.from_stereo);
   }
-  if (job.first && !stereo_start_ok(stereo, line_plan)) return result;
+  if (job.first && stereo_lines && !stereo_start_ok(stereo, line_plan.from_stereo)) return result;
 
   Id kid = kNoId;
   int new_points = 0;

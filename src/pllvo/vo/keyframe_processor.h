@@ -82,7 +82,7 @@ class KeyframeProcessor {
  private:
   geometry::Pose current_pose(const KeyframeJob& job);
   /// The first keyframe of a stereo segment: enough metric points and lines to start on.
-  bool stereo_start_ok(const std::vector<std::optional<Eigen::Vector3d>>& stereo, const LinePlan& lines) const;
+  bool stereo_start_ok(const std::vector<std::optional<Eigen::Vector3d>>& stereo, int stereo_lines) const;
   /// New points from the stereo pair for features without a map point; `right_px` gets the
   /// right-image position of every feature with a valid stereo match (NaN elsewhere).
   std::vector<std::optional<Eigen::Vector3d>> stereo_points(const KeyframeJob& job, const PointFeatures& features,

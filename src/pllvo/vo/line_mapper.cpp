@@ -175,10 +175,7 @@ void LineMapper::triangulate_stereo(const cv::Mat& image, const cv::Mat& right, 
     left_desc = lines::compute_lbd_descriptors(image, left);
     right_desc = lines::compute_lbd_descriptors(right, right_segments);
   }
-  // Rectified pair: the right camera sits at +baseline along the left camera's x axis.
-  geometry::Pose T_left_right = geometry::Pose::Identity();
-  T_left_right.translation() = Eigen::Vector3d(baseline, 0, 0);
-  const geometry::Pose T_world_right = T_world_cam * T_left_right;
+  const geometry::Pose T_world_right = T_world_cam * T_left_right(baseline);
   geometry::LineTriangulationConfig stereo = triangulation_;
   stereo.min_plane_angle_deg = config_.stereo.min_plane_angle_deg;
   const auto stereo_matches = lines::match_stereo_lines(left, right_segments, left_desc, right_desc, config_.stereo);

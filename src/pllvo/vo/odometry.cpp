@@ -474,14 +474,13 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     std::optional<geometry::Pose> predicted;
     if (config_.pose.use_motion_prior && has_velocity_) predicted = T_world_pred;
     estimate = estimate_pose(camera_, pts, px, line_measurements, predicted, config_.geometry, config_.backend);
-    if (!estimate.ok && config_.pose.min_inliers_with_prior > 0 && (predicted || config_.pose.use_motion_prior)) {
+    if (!estimate.ok && config_.pose.use_motion_prior && config_.pose.min_inliers_with_prior > 0) {
       // Too few points for PnP (a textureless stretch): the constant-velocity prediction
       // carries the pose while a few observations (points and lines) still agree with it.
-      // Right after a start there is no velocity yet: the last pose (no motion) is the prior.
+      // Right after a start there is no velocity yet: T_world_pred is the last pose (no motion).
       backend::BackendConfig weak = config_.backend;
       weak.pose_refiner.min_inliers = config_.pose.min_inliers_with_prior;
-      estimate = estimate_pose(camera_, pts, px, line_measurements, predicted ? predicted : T_world_work_,
-                               config_.geometry, weak);
+      estimate = estimate_pose(camera_, pts, px, line_measurements, T_world_pred, config_.geometry, weak);
       if (estimate.ok) stats_.add_count("prior_supported_poses");
     }
   }

@@ -46,13 +46,8 @@ double angle_from_horizontal(const LineSegment& s) {
   return std::atan2(std::abs(d.y()), std::abs(d.x()));
 }
 
-double orientation_difference(const LineSegment& a, const LineSegment& b) {
-  const double d = std::abs(a.orientation() - b.orientation());
-  return std::min(d, M_PI - d);
-}
-
 bool geometric_candidate(const LineSegment& l, const LineSegment& r, const StereoLineMatcherConfig& c) {
-  if (orientation_difference(l, r) > c.max_angle_deg * M_PI / 180.0) return false;
+  if (acute_angle(l, r) > c.max_angle_deg * M_PI / 180.0) return false;
   const double l0 = std::min(l.start.y(), l.end.y()), l1 = std::max(l.start.y(), l.end.y());
   const double r0 = std::min(r.start.y(), r.end.y()), r1 = std::max(r.start.y(), r.end.y());
   const double lo = std::max(l0, r0), hi = std::min(l1, r1);
