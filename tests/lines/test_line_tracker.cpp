@@ -149,6 +149,31 @@ TEST(LineTracker, PredictionSeedsLargeMotions) {
   EXPECT_LT((tracks[0].line.end - motion * lines[0].end).norm(), 0.1);
 }
 
+// The motion prior predicts each endpoint, so the predicted segment is shorter or longer than
+// the tracked one and gets another number of samples of its own. Each sample is seeded at its
+// own fraction along the prediction (before, the prediction's k-th sample seeded sample k, and a
+// shorter prediction was read past its end: found by valgrind, it made runs differ).
+TEST(LineTracker, PredictionOfAnotherLengthSeedsEverySample) {
+  const AnalyticScene scene(6);
+  const Eigen::Isometry2d motion = rigid(0.0, V(0, 0), V(60, 35));
+  const LineTracker tracker;
+  const auto p0 = tracker.make_pyramid(scene.render(Eigen::Isometry2d::Identity()));
+  const auto p1 = tracker.make_pyramid(scene.render(motion));
+  const LineSegment line(V(40, 40), V(140, 70));
+  const V a = motion * line.start, b = motion * line.end, mid = 0.5 * (a + b);
+  const LineSegment shorter(mid + 0.8 * (a - mid) + V(1.5, -1.0), mid + 0.8 * (b - mid) + V(1.5, -1.0));
+  ASSERT_LT(tracker.sample_fractions(shorter).size(), tracker.sample_fractions(line).size());
+  const std::vector<LineSegment> lines = {line}, predicted = {shorter};
+  const auto tracks = tracker.track(p0, p1, lines, &predicted);
+  ASSERT_EQ(tracks[0].status, TrackStatus::Tracked);
+  EXPECT_EQ(tracks[0].inliers, tracks[0].samples);
+  EXPECT_LT((tracks[0].line.start - a).norm(), 0.1);
+  EXPECT_LT((tracks[0].line.end - b).norm(), 0.1);
+  const auto t = tracker.sample_fractions(line);
+  EXPECT_NEAR(t.front(), 1.0 - t.back(), 1e-12);
+  EXPECT_GT(t.front(), 0.0);
+}
+
 TEST(LineTracker, SharesPyramidsAndChecksInput) {
   const LineTracker tracker;
   const cv::Mat im(120, 160, CV_8UC1, cv::Scalar(0));

@@ -58,17 +58,22 @@ OpticalFlowPyramid LineTracker::make_pyramid(const cv::Mat& gray) const {
                             config_.normalized_mean);
 }
 
-std::vector<Eigen::Vector2d> LineTracker::sample_points(const LineSegment& line) const {
+std::vector<double> LineTracker::sample_fractions(const LineSegment& line) const {
   const double len = line.length();
   const double usable = std::max(0.0, len - 2.0 * config_.end_margin_px);
   int n = static_cast<int>(std::floor(usable / config_.sample_spacing_px)) + 1;
   n = std::clamp(n, config_.min_samples, config_.max_samples);
-  std::vector<Eigen::Vector2d> pts(n);
+  std::vector<double> t(n);
   const double t0 = len > 0 ? std::min(0.5, config_.end_margin_px / len) : 0.5;
-  for (int i = 0; i < n; ++i) pts[i] = line.at(t0 + (1.0 - 2.0 * t0) * i / (n - 1));
-  return pts;
+  for (int i = 0; i < n; ++i) t[i] = t0 + (1.0 - 2.0 * t0) * i / (n - 1);
+  return t;
 }
 
+std::vector<Eigen::Vector2d> LineTracker::sample_points(const LineSegment& line) const {
+  std::vector<Eigen::Vector2d> pts;
+  for (const double t : sample_fractions(line)) pts.push_back(line.at(t));
+  return pts;
+}
 
 std::vector<LineTrack> LineTracker::track(const OpticalFlowPyramid& prev, const OpticalFlowPyramid& next,
                                           const std::vector<LineSegment>& lines,
@@ -84,12 +89,12 @@ std::vector<LineTrack> LineTracker::track(const OpticalFlowPyramid& prev, const 
   std::vector<int> first(lines.size() + 1, 0);
   std::vector<cv::Point2f> p0, p1;
   for (size_t i = 0; i < lines.size(); ++i) {
-    const auto pts = sample_points(lines[i]);
-    first[i + 1] = first[i] + static_cast<int>(pts.size());
-    const auto guess = predicted ? sample_points((*predicted)[i]) : pts;
-    for (size_t k = 0; k < pts.size(); ++k) {
-      p0.emplace_back(static_cast<float>(pts[k].x()), static_cast<float>(pts[k].y()));
-      p1.emplace_back(static_cast<float>(guess[k].x()), static_cast<float>(guess[k].y()));
+    const auto fractions = sample_fractions(lines[i]);
+    first[i + 1] = first[i] + static_cast<int>(fractions.size());
+    for (const double t : fractions) {
+      const Eigen::Vector2d p = lines[i].at(t), guess = predicted ? (*predicted)[i].at(t) : p;
+      p0.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
+      p1.emplace_back(static_cast<float>(guess.x()), static_cast<float>(guess.y()));
     }
   }
   std::vector<uchar> status;

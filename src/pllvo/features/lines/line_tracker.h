@@ -83,6 +83,10 @@ class LineTracker {
 
   /// Sample points of a line, as used by track().
   std::vector<Eigen::Vector2d> sample_points(const LineSegment& line) const;
+  /// Where the samples lie along `line` (0: start, 1: end). A predicted line is sampled at the
+  /// same fractions, so each sample's LK seed is its own point on the prediction, whatever the
+  /// predicted length.
+  std::vector<double> sample_fractions(const LineSegment& line) const;
 
   const LineTrackerConfig& config() const { return config_; }
 
