@@ -37,6 +37,7 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.init.stereo_min_points, code.init.stereo_min_points);
   EXPECT_EQ(file.pose.lost_frames_before_reset, code.pose.lost_frames_before_reset);
   EXPECT_EQ(file.mapping.max_anchor_keyframes, code.mapping.max_anchor_keyframes);
+  EXPECT_DOUBLE_EQ(file.mapping.mono_line_min_plane_angle_deg, code.mapping.mono_line_min_plane_angle_deg);
   EXPECT_DOUBLE_EQ(file.mapping.mnn_max_distance, code.mapping.mnn_max_distance);
   EXPECT_DOUBLE_EQ(file.mapping.lightglue_depth_confidence, code.mapping.lightglue_depth_confidence);
   EXPECT_DOUBLE_EQ(file.mapping.lightglue_width_confidence, code.mapping.lightglue_width_confidence);
@@ -76,6 +77,22 @@ TEST(VoConfig, MonocularRunsDropLinesUnlessAskedFor) {
   none.pipeline.lines_in_mono = true;
   EXPECT_FALSE(none.for_mode(true).pipeline.lines);
   EXPECT_FALSE(none.for_mode(false).pipeline.lines);
+}
+
+TEST(VoConfig, MonocularLinesNeedAWiderTriangulationAngle) {
+  const VoConfig c;
+  EXPECT_DOUBLE_EQ(c.for_mode(true).geometry.line_triangulation.min_plane_angle_deg, 2.0);
+  EXPECT_DOUBLE_EQ(c.for_mode(false).geometry.line_triangulation.min_plane_angle_deg, 5.0);
+  // The mono value is a floor: a wider angle asked for in geometry stays.
+  const VoConfig wide =
+      VoConfig::load(write_yaml("wideangle", "geometry:\n  line_triangulation:\n    min_plane_angle_deg: 7.0\n"));
+  EXPECT_DOUBLE_EQ(wide.for_mode(false).geometry.line_triangulation.min_plane_angle_deg, 7.0);
+  try {
+    VoConfig::load(write_yaml("badmonoangle", "mapping:\n  mono_line_min_plane_angle_deg: -1\n"));
+    FAIL() << "accepted a negative angle";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("mapping.mono_line_min_plane_angle_deg"), std::string::npos) << e.what();
+  }
 }
 
 TEST(VoConfig, FileOverridesOnlyTheKeysItNames) {

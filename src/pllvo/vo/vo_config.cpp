@@ -1,5 +1,7 @@
 #include "pllvo/vo/vo_config.h"
 
+#include <algorithm>
+
 namespace pllvo::vo {
 namespace {
 
@@ -84,6 +86,7 @@ void read_mapping(const ConfigNode& n, MappingConfig& c) {
   n.get("orb_ratio", c.orb_ratio);
   n.get("orb_max_hamming", c.orb_max_hamming);
   n.get("max_anchor_keyframes", c.max_anchor_keyframes);
+  n.get("mono_line_min_plane_angle_deg", c.mono_line_min_plane_angle_deg);
   n.reject_unknown_keys();
 }
 
@@ -111,6 +114,10 @@ void require(bool ok, const std::filesystem::path& file, const std::string& key,
 VoConfig VoConfig::for_mode(bool stereo) const {
   VoConfig c = *this;
   if (!stereo && !pipeline.lines_in_mono) c.pipeline.lines = false;
+  if (!stereo) {
+    auto& angle = c.geometry.line_triangulation.min_plane_angle_deg;
+    angle = std::max(angle, mapping.mono_line_min_plane_angle_deg);
+  }
   return c;
 }
 
@@ -169,6 +176,8 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(pipeline.line_tracking == "flow" || pipeline.line_tracking == "redetect", file,
           "pipeline.line_tracking", "must be flow or redetect (got '" + pipeline.line_tracking + "')");
   require(mapping.max_anchor_keyframes >= 0, file, "mapping.max_anchor_keyframes", "must not be negative");
+  require(mapping.mono_line_min_plane_angle_deg >= 0 && mapping.mono_line_min_plane_angle_deg < 90, file,
+          "mapping.mono_line_min_plane_angle_deg", "must be in [0, 90)");
   require(klt.min_ncc >= -1 && klt.min_ncc <= 1, file, "klt.min_ncc", "must be in [-1, 1]");
 }
 

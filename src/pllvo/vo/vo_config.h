@@ -150,6 +150,11 @@ struct MappingConfig {
   /// Older keyframes (outside the window) that see the window's points join the BA, fixed,
   /// to anchor it; at most this many.
   int max_anchor_keyframes = 5;
+  /// Monocular runs with lines: smallest angle between the two back-projected planes of a new
+  /// 3-D line (raises geometry.line_triangulation.min_plane_angle_deg in mono). Lines
+  /// triangulated from monocular keyframes at the stereo default (2 deg) pull the scale harder:
+  /// medium_lowlight mono 7.2 % at 2 deg, 4.0 % at 5 deg (docs/vo.md, session 6).
+  double mono_line_min_plane_angle_deg = 5.0;
 };
 
 /// Whole-pipeline switches for ablations and baselines (pllvo bench): each turns one of the
@@ -158,10 +163,12 @@ struct PipelineConfig {
   /// Lines at all: detection on keyframes, line optical flow, line residuals in the pose and
   /// the bundle adjustment, the line keyframe trigger. false: a points-only VO.
   bool lines = true;
-  /// Lines also in monocular mode. Off by default, measured on the mono suite
-  /// (docs/vo.md, session 4): with a single camera the lines are triangulated from keyframes
-  /// a few centimetres apart, and their residuals in the pose and the bundle adjustment pull
-  /// the scale (medium_lowlight mono ATE 10.3 % with lines, 2.3 % without). Stereo keeps them.
+  /// Lines also in monocular mode. Off by default, measured on the mono suite (docs/vo.md,
+  /// sessions 4 and 6): with a single camera the lines are triangulated from keyframes a few
+  /// centimetres apart, and their residuals in the pose and the bundle adjustment pull the
+  /// scale. Even with mapping.mono_line_min_plane_angle_deg, medium_lowlight mono averages 4.0 %
+  /// with lines and 2.4 % without over four start frames; on the real ECD slide lines keep 56 of
+  /// 149 frames tracked instead of 34, on KITTI 0.04 % instead of 0.13 %. Stereo keeps them.
   bool lines_in_mono = false;
   /// How lines follow the camera between keyframes: `flow` (line optical flow, paper 3.1) or
   /// `redetect` (the usual baseline: lines detected in every frame and associated with the
@@ -196,8 +203,8 @@ struct VoConfig {
 
   /// Defaults overridden by the file; InputError names the file and key of a bad value.
   static VoConfig load(const std::filesystem::path& file);
-  /// The configuration one run uses: in monocular mode pipeline.lines is off unless
-  /// pipeline.lines_in_mono is set.
+  /// The configuration one run uses: in monocular mode pipeline.lines is off when
+  /// pipeline.lines_in_mono is, and new 3-D lines need mapping.mono_line_min_plane_angle_deg.
   VoConfig for_mode(bool stereo) const;
   void read(const ConfigNode& node);
   /// InputError (key path) for values outside their meaningful range.
