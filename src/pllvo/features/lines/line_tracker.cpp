@@ -69,12 +69,6 @@ std::vector<double> LineTracker::sample_fractions(const LineSegment& line) const
   return t;
 }
 
-std::vector<Eigen::Vector2d> LineTracker::sample_points(const LineSegment& line) const {
-  std::vector<Eigen::Vector2d> pts;
-  for (const double t : sample_fractions(line)) pts.push_back(line.at(t));
-  return pts;
-}
-
 std::vector<LineTrack> LineTracker::track(const OpticalFlowPyramid& prev, const OpticalFlowPyramid& next,
                                           const std::vector<LineSegment>& lines,
                                           const std::vector<LineSegment>* predicted) const {

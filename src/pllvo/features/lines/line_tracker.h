@@ -81,10 +81,8 @@ class LineTracker {
                                const std::vector<LineSegment>& lines,
                                const std::vector<LineSegment>* predicted = nullptr) const;
 
-  /// Sample points of a line, as used by track().
-  std::vector<Eigen::Vector2d> sample_points(const LineSegment& line) const;
-  /// Where the samples lie along `line` (0: start, 1: end). A predicted line is sampled at the
-  /// same fractions, so each sample's LK seed is its own point on the prediction, whatever the
+  /// Where track() samples `line` (0: start, 1: end). A predicted line is sampled at the same
+  /// fractions, so each sample's LK seed is its own point on the prediction, whatever the
   /// predicted length.
   std::vector<double> sample_fractions(const LineSegment& line) const;
 
