@@ -134,12 +134,21 @@ TEST(LineTracker, RejectsAbnormalLines) {
 }
 
 // A motion beyond LK's capture range is tracked when a prediction seeds LK.
+// Scene 6 before and after a 60 x 35 px shift: too far for LK without a prediction.
+struct LargeShift {
+  LineTracker tracker;
+  Eigen::Isometry2d motion = rigid(0.0, V(0, 0), V(60, 35));
+  OpticalFlowPyramid p0, p1;
+  LargeShift() {
+    const AnalyticScene scene(6);
+    p0 = tracker.make_pyramid(scene.render(Eigen::Isometry2d::Identity()));
+    p1 = tracker.make_pyramid(scene.render(motion));
+  }
+};
+
 TEST(LineTracker, PredictionSeedsLargeMotions) {
-  const AnalyticScene scene(6);
-  const Eigen::Isometry2d motion = rigid(0.0, V(0, 0), V(60, 35));
-  const LineTracker tracker;
-  const auto p0 = tracker.make_pyramid(scene.render(Eigen::Isometry2d::Identity()));
-  const auto p1 = tracker.make_pyramid(scene.render(motion));
+  const LargeShift shift;
+  const auto& [tracker, motion, p0, p1] = shift;
   const std::vector<LineSegment> lines = {LineSegment(V(40, 40), V(160, 80))};
   std::vector<LineSegment> predicted = lines;
   predicted[0].start += V(61.5, 34), predicted[0].end += V(61.5, 34);  // 1.8 px off
@@ -154,11 +163,8 @@ TEST(LineTracker, PredictionSeedsLargeMotions) {
 // own fraction along the prediction (before, the prediction's k-th sample seeded sample k, and a
 // shorter prediction was read past its end: found by valgrind, it made runs differ).
 TEST(LineTracker, PredictionOfAnotherLengthSeedsEverySample) {
-  const AnalyticScene scene(6);
-  const Eigen::Isometry2d motion = rigid(0.0, V(0, 0), V(60, 35));
-  const LineTracker tracker;
-  const auto p0 = tracker.make_pyramid(scene.render(Eigen::Isometry2d::Identity()));
-  const auto p1 = tracker.make_pyramid(scene.render(motion));
+  const LargeShift shift;
+  const auto& [tracker, motion, p0, p1] = shift;
   const LineSegment line(V(40, 40), V(140, 70));
   const V a = motion * line.start, b = motion * line.end, mid = 0.5 * (a + b);
   const LineSegment shorter(mid + 0.8 * (a - mid) + V(1.5, -1.0), mid + 0.8 * (b - mid) + V(1.5, -1.0));
