@@ -7,6 +7,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "pllvo/vo/stereo_row_match.h"
+
 namespace pllvo::vo {
 namespace {
 
@@ -84,9 +86,20 @@ std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::stereo_points(con
   if (pts.empty()) return out;
   const ImagePyramid left = job.left_pyramid.empty() ? stereo_tracker_.build_pyramid(job.left) : job.left_pyramid;
   const ImagePyramid right = stereo_tracker_.build_pyramid(job.right);
-  const TrackResult tr = stereo_tracker_.track(left, right, pts);
+  TrackResult tr = stereo_tracker_.track(left, right, pts);
+  StereoRowMatchConfig row;
+  row.window_px = config_.klt.window_px;
+  row.min_horizontal_share = config_.klt.stereo_min_horizontal_share;
   for (size_t k = 0; k < which.size(); ++k) {
     if (!tr.ok[k]) continue;
+    if (row.min_horizontal_share > 0) {
+      const auto x = refine_along_row(job.left, job.right, pts[k], tr.points[k].x, row);
+      if (!x) {
+        stats_.add_count("stereo_row_rejects");
+        continue;
+      }
+      tr.points[k] = cv::Point2f(*x, pts[k].y);
+    }
     const auto p = triangulate_stereo(camera_, baseline_, to_eigen(pts[k]), to_eigen(tr.points[k]),
                                       config_.geometry.stereo);
     if (!p) continue;
@@ -323,8 +336,9 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job) {
                               {kid, static_cast<int>(j)}});
   });
   stats_.add_sample("kf_new_lines", result.created_lines);
-  spdlog::debug("keyframe {} (frame {}, {}): {} features, {} matches, {} new points, {} tracked", kid,
-                job.frame_index, to_string(job.reason), n, result.matches, new_points, result.tracks.size());
+  spdlog::debug("keyframe {} (frame {}, {}): {} features, {} matches, {} new points, {} tracked; {} lines, {} new",
+                kid, job.frame_index, to_string(job.reason), n, result.matches, new_points, result.tracks.size(),
+                result.lines.size(), result.created_lines);
   return result;
 }
 

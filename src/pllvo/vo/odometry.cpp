@@ -511,8 +511,9 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
       if (!drop[i]) kept_lines.push_back(line_tracks_[i]);
     line_tracks_ = std::move(kept_lines);
   }
-  spdlog::debug("frame {}: {} map points followed, {} pose inliers, {} tracks kept", frame.index, pts.size(),
-                estimate.ok ? estimate.num_point_inliers : 0, tracks_.size());
+  spdlog::debug("frame {}: {} map points followed, {} pose inliers, {} tracks kept; {} of {} 3-D lines agree",
+                frame.index, pts.size(), estimate.ok ? estimate.num_point_inliers : 0, tracks_.size(),
+                estimate.ok ? estimate.num_line_inliers : 0, line_measurements.size());
 
   if (!estimate.ok) {
     spdlog::debug("frame {}: pose failed ({} tracked points)", frame.index, pts.size());

@@ -41,6 +41,7 @@ void read_klt(const ConfigNode& n, KltConfig& c) {
   n.get("denoise_min_noise", c.denoise_min_noise);
   n.get("denoise_sigma_px", c.denoise_sigma_px);
   n.get("border_px", c.border_px);
+  n.get("stereo_min_horizontal_share", c.stereo_min_horizontal_share);
   n.reject_unknown_keys();
 }
 
@@ -179,6 +180,8 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(mapping.mono_line_min_plane_angle_deg >= 0 && mapping.mono_line_min_plane_angle_deg < 90, file,
           "mapping.mono_line_min_plane_angle_deg", "must be in [0, 90)");
   require(klt.min_ncc >= -1 && klt.min_ncc <= 1, file, "klt.min_ncc", "must be in [-1, 1]");
+  require(klt.stereo_min_horizontal_share >= 0 && klt.stereo_min_horizontal_share < 1, file,
+          "klt.stereo_min_horizontal_share", "must be in [0, 1) (0: off)");
 }
 
 }  // namespace pllvo::vo

@@ -77,6 +77,11 @@ struct KltConfig {
   /// FB + NCC raw, 63-87 after a 1.5 px blur (docs/vo.md, session 4). 0: off.
   double denoise_min_noise = 6.0;
   double denoise_sigma_px = 1.5;
+  /// Stereo matches (rectified pairs) are finished by a 1-D search along the row
+  /// (vo/stereo_row_match.h), dropping those whose window has less than this share of
+  /// horizontal gradient energy: points on near-horizontal edges, whose disparity 2-D LK gets
+  /// wrong by pixels. 0: the 2-D match as it is.
+  double stereo_min_horizontal_share = 0.03;
 };
 
 /// Keyframe decision (paper 3.3). Every strategy can be switched off for ablations.
