@@ -39,6 +39,7 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.pose.lost_frames_before_reset, code.pose.lost_frames_before_reset);
   EXPECT_EQ(file.mapping.max_anchor_keyframes, code.mapping.max_anchor_keyframes);
   EXPECT_DOUBLE_EQ(file.mapping.mono_line_min_plane_angle_deg, code.mapping.mono_line_min_plane_angle_deg);
+  EXPECT_DOUBLE_EQ(file.mapping.mono_ba_line_weight, code.mapping.mono_ba_line_weight);
   EXPECT_DOUBLE_EQ(file.mapping.mnn_max_distance, code.mapping.mnn_max_distance);
   EXPECT_DOUBLE_EQ(file.mapping.lightglue_depth_confidence, code.mapping.lightglue_depth_confidence);
   EXPECT_DOUBLE_EQ(file.mapping.lightglue_width_confidence, code.mapping.lightglue_width_confidence);
@@ -88,6 +89,11 @@ TEST(VoConfig, MonocularLinesNeedAWiderTriangulationAngle) {
   const VoConfig wide =
       VoConfig::load(write_yaml("wideangle", "geometry:\n  line_triangulation:\n    min_plane_angle_deg: 7.0\n"));
   EXPECT_DOUBLE_EQ(wide.for_mode(false).geometry.line_triangulation.min_plane_angle_deg, 7.0);
+  // The mono line weight in the BA is a ceiling too; stereo keeps the backend's.
+  const VoConfig light = VoConfig::load(write_yaml("monoweight", "mapping:\n  mono_ba_line_weight: 0.25\n"));
+  EXPECT_DOUBLE_EQ(light.for_mode(false).backend.bundle_adjustment.line_weight, 0.25);
+  EXPECT_DOUBLE_EQ(light.for_mode(true).backend.bundle_adjustment.line_weight, 1.0);
+  EXPECT_THROW(VoConfig::load(write_yaml("badmonoweight", "mapping:\n  mono_ba_line_weight: -1\n")), InputError);
   try {
     VoConfig::load(write_yaml("badmonoangle", "mapping:\n  mono_line_min_plane_angle_deg: -1\n"));
     FAIL() << "accepted a negative angle";

@@ -88,6 +88,7 @@ void read_mapping(const ConfigNode& n, MappingConfig& c) {
   n.get("orb_max_hamming", c.orb_max_hamming);
   n.get("max_anchor_keyframes", c.max_anchor_keyframes);
   n.get("mono_line_min_plane_angle_deg", c.mono_line_min_plane_angle_deg);
+  n.get("mono_ba_line_weight", c.mono_ba_line_weight);
   n.reject_unknown_keys();
 }
 
@@ -118,6 +119,8 @@ VoConfig VoConfig::for_mode(bool stereo) const {
   if (!stereo) {
     auto& angle = c.geometry.line_triangulation.min_plane_angle_deg;
     angle = std::max(angle, mapping.mono_line_min_plane_angle_deg);
+    auto& weight = c.backend.bundle_adjustment.line_weight;
+    weight = std::min(weight, mapping.mono_ba_line_weight);
   }
   return c;
 }
@@ -179,6 +182,7 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(mapping.max_anchor_keyframes >= 0, file, "mapping.max_anchor_keyframes", "must not be negative");
   require(mapping.mono_line_min_plane_angle_deg >= 0 && mapping.mono_line_min_plane_angle_deg < 90, file,
           "mapping.mono_line_min_plane_angle_deg", "must be in [0, 90)");
+  require(mapping.mono_ba_line_weight >= 0, file, "mapping.mono_ba_line_weight", "must not be negative");
   require(klt.min_ncc >= -1 && klt.min_ncc <= 1, file, "klt.min_ncc", "must be in [-1, 1]");
   require(klt.stereo_min_horizontal_share >= 0 && klt.stereo_min_horizontal_share < 1, file,
           "klt.stereo_min_horizontal_share", "must be in [0, 1) (0: off)");

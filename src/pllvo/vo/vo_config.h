@@ -160,6 +160,10 @@ struct MappingConfig {
   /// triangulated from monocular keyframes at the stereo default (2 deg) pull the scale harder:
   /// medium_lowlight mono 7.2 % at 2 deg, 4.0 % at 5 deg (docs/vo.md, session 6).
   double mono_line_min_plane_angle_deg = 5.0;
+  /// Monocular runs with lines: the sliding-window BA weighs line residuals at most this much
+  /// relative to points (a ceiling on backend.bundle_adjustment.line_weight in mono). Lines from
+  /// short monocular baselines otherwise pull the scale in low light (docs/vo.md, session 7).
+  double mono_ba_line_weight = 1.0;
 };
 
 /// Whole-pipeline switches for ablations and baselines (pllvo bench): each turns one of the
