@@ -67,13 +67,14 @@ TEST(VoConfig, PipelineSwitchesAreReadAndChecked) {
   }
 }
 
-TEST(VoConfig, MonocularRunsDropLinesUnlessAskedFor) {
+TEST(VoConfig, MonocularRunsUseLinesUnlessTurnedOff) {
   const VoConfig c;
   EXPECT_TRUE(c.for_mode(true).pipeline.lines);
-  EXPECT_FALSE(c.for_mode(false).pipeline.lines);
-  const VoConfig with = VoConfig::load(write_yaml("monolines", "pipeline:\n  lines_in_mono: true\n"));
-  EXPECT_TRUE(with.pipeline.lines_in_mono);
-  EXPECT_TRUE(with.for_mode(false).pipeline.lines);
+  EXPECT_TRUE(c.for_mode(false).pipeline.lines);
+  const VoConfig without = VoConfig::load(write_yaml("monolines", "pipeline:\n  lines_in_mono: false\n"));
+  EXPECT_FALSE(without.pipeline.lines_in_mono);
+  EXPECT_FALSE(without.for_mode(false).pipeline.lines);
+  EXPECT_TRUE(without.for_mode(true).pipeline.lines);
   VoConfig none;
   none.pipeline.lines = false;
   none.pipeline.lines_in_mono = true;
@@ -90,9 +91,10 @@ TEST(VoConfig, MonocularLinesNeedAWiderTriangulationAngle) {
       VoConfig::load(write_yaml("wideangle", "geometry:\n  line_triangulation:\n    min_plane_angle_deg: 7.0\n"));
   EXPECT_DOUBLE_EQ(wide.for_mode(false).geometry.line_triangulation.min_plane_angle_deg, 7.0);
   // The mono line weight in the BA is a ceiling too; stereo keeps the backend's.
-  const VoConfig light = VoConfig::load(write_yaml("monoweight", "mapping:\n  mono_ba_line_weight: 0.25\n"));
-  EXPECT_DOUBLE_EQ(light.for_mode(false).backend.bundle_adjustment.line_weight, 0.25);
-  EXPECT_DOUBLE_EQ(light.for_mode(true).backend.bundle_adjustment.line_weight, 1.0);
+  EXPECT_DOUBLE_EQ(c.for_mode(false).backend.bundle_adjustment.line_weight, 0.25);
+  EXPECT_DOUBLE_EQ(c.for_mode(true).backend.bundle_adjustment.line_weight, 1.0);
+  const VoConfig light = VoConfig::load(write_yaml("monoweight", "mapping:\n  mono_ba_line_weight: 0.1\n"));
+  EXPECT_DOUBLE_EQ(light.for_mode(false).backend.bundle_adjustment.line_weight, 0.1);
   EXPECT_THROW(VoConfig::load(write_yaml("badmonoweight", "mapping:\n  mono_ba_line_weight: -1\n")), InputError);
   try {
     VoConfig::load(write_yaml("badmonoangle", "mapping:\n  mono_line_min_plane_angle_deg: -1\n"));

@@ -163,7 +163,7 @@ struct MappingConfig {
   /// Monocular runs with lines: the sliding-window BA weighs line residuals at most this much
   /// relative to points (a ceiling on backend.bundle_adjustment.line_weight in mono). Lines from
   /// short monocular baselines otherwise pull the scale in low light (docs/vo.md, session 7).
-  double mono_ba_line_weight = 1.0;
+  double mono_ba_line_weight = 0.25;
 };
 
 /// Whole-pipeline switches for ablations and baselines (pllvo bench): each turns one of the
@@ -172,13 +172,12 @@ struct PipelineConfig {
   /// Lines at all: detection on keyframes, line optical flow, line residuals in the pose and
   /// the bundle adjustment, the line keyframe trigger. false: a points-only VO.
   bool lines = true;
-  /// Lines also in monocular mode. Off by default, measured on the mono suite (docs/vo.md,
-  /// sessions 4 and 6): with a single camera the lines are triangulated from keyframes a few
-  /// centimetres apart, and their residuals in the pose and the bundle adjustment pull the
-  /// scale. Even with mapping.mono_line_min_plane_angle_deg, medium_lowlight mono averages 4.0 %
-  /// with lines and 2.4 % without over four start frames; on the real ECD slide lines keep 56 of
-  /// 149 frames tracked instead of 34, on KITTI 0.04 % instead of 0.13 %. Stereo keeps them.
-  bool lines_in_mono = false;
+  /// Lines also in monocular mode. With a single camera the lines are triangulated from
+  /// keyframes a few centimetres apart and pull the scale at full BA weight (sessions 4-6: off);
+  /// with mapping.mono_line_min_plane_angle_deg and mapping.mono_ba_line_weight they are lower
+  /// than points-only on 14 of 24 synthetic mono runs (mean 2.17 against 2.35 %), and on real data
+  /// ECD keeps 57 of 149 frames instead of 34, KITTI 0.06 % instead of 0.13 % (docs/vo.md, session 7).
+  bool lines_in_mono = true;
   /// How lines follow the camera between keyframes: `flow` (line optical flow, paper 3.1) or
   /// `redetect` (the usual baseline: lines detected in every frame and associated with the
   /// previous frame's lines by position, predicted by the motion prior; no flow).
