@@ -212,7 +212,8 @@ struct VoConfig {
   /// Defaults overridden by the file; InputError names the file and key of a bad value.
   static VoConfig load(const std::filesystem::path& file);
   /// The configuration one run uses: in monocular mode pipeline.lines is off when
-  /// pipeline.lines_in_mono is, and new 3-D lines need mapping.mono_line_min_plane_angle_deg.
+  /// pipeline.lines_in_mono is, new 3-D lines need mapping.mono_line_min_plane_angle_deg, and the
+  /// BA's line weight is at most mapping.mono_ba_line_weight.
   VoConfig for_mode(bool stereo) const;
   void read(const ConfigNode& node);
   /// InputError (key path) for values outside their meaningful range.
