@@ -40,6 +40,8 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.mapping.max_anchor_keyframes, code.mapping.max_anchor_keyframes);
   EXPECT_DOUBLE_EQ(file.mapping.mono_line_min_plane_angle_deg, code.mapping.mono_line_min_plane_angle_deg);
   EXPECT_DOUBLE_EQ(file.mapping.mono_ba_line_weight, code.mapping.mono_ba_line_weight);
+  EXPECT_EQ(file.mapping.mono_baseline_parallax_gate, code.mapping.mono_baseline_parallax_gate);
+  EXPECT_DOUBLE_EQ(file.mapping.mono_point_min_parallax_deg, code.mapping.mono_point_min_parallax_deg);
   EXPECT_DOUBLE_EQ(file.mapping.mnn_max_distance, code.mapping.mnn_max_distance);
   EXPECT_DOUBLE_EQ(file.mapping.lightglue_depth_confidence, code.mapping.lightglue_depth_confidence);
   EXPECT_DOUBLE_EQ(file.mapping.lightglue_width_confidence, code.mapping.lightglue_width_confidence);

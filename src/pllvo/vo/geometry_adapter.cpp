@@ -116,6 +116,23 @@ std::optional<Eigen::Vector3d> triangulate_point(const Pinhole& cam, const std::
   return t.p_world;
 }
 
+bool baseline_subtends(const std::vector<geometry::Pose>& T_world_views, const geometry::Pose& T_world_cam,
+                       double depth, double min_parallax_deg) {
+  double widest = 0;
+  for (const auto& T : T_world_views) widest = std::max(widest, (T.translation() - T_world_cam.translation()).norm());
+  return depth > 0 && 2.0 * std::atan2(0.5 * widest, depth) >= min_parallax_deg * M_PI / 180.0;
+}
+
+double median_depth(const std::vector<Eigen::Vector3d>& points_world, const geometry::Pose& T_world_cam) {
+  const geometry::Pose T_cam_world = T_world_cam.inverse();
+  std::vector<double> z;
+  for (const auto& p : points_world)
+    if (const double d = (T_cam_world * p).z(); d > 0) z.push_back(d);
+  if (z.empty()) return 0.0;
+  std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
+  return z[z.size() / 2];
+}
+
 geometry::Pose T_left_right(double baseline) {
   geometry::Pose T = geometry::Pose::Identity();
   T.translation() = Eigen::Vector3d(baseline, 0, 0);

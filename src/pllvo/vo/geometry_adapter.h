@@ -72,6 +72,16 @@ std::optional<Eigen::Vector3d> triangulate_point(const Pinhole& cam, const std::
                                                  const std::vector<Eigen::Vector2d>& pixels,
                                                  const geometry::PointTriangulationConfig& config);
 
+/// Whether views at `T_world_views` and a camera at `T_world_cam` are far enough apart to
+/// triangulate at `depth` (the scene's median depth): the widest baseline subtends at least
+/// `min_parallax_deg` there. Unlike a point's own parallax it does not depend on the point's
+/// noisy rays, so it selects no depth error.
+bool baseline_subtends(const std::vector<geometry::Pose>& T_world_views, const geometry::Pose& T_world_cam,
+                       double depth, double min_parallax_deg);
+
+/// Median of the depths of `points_world` in the camera at `T_world_cam`; 0 when there are none.
+double median_depth(const std::vector<Eigen::Vector3d>& points_world, const geometry::Pose& T_world_cam);
+
 /// Pose of the right rectified camera in the left one: +baseline along the left camera's x axis.
 geometry::Pose T_left_right(double baseline);
 

@@ -89,6 +89,8 @@ void read_mapping(const ConfigNode& n, MappingConfig& c) {
   n.get("max_anchor_keyframes", c.max_anchor_keyframes);
   n.get("mono_line_min_plane_angle_deg", c.mono_line_min_plane_angle_deg);
   n.get("mono_ba_line_weight", c.mono_ba_line_weight);
+  n.get("mono_baseline_parallax_gate", c.mono_baseline_parallax_gate);
+  n.get("mono_point_min_parallax_deg", c.mono_point_min_parallax_deg);
   n.reject_unknown_keys();
 }
 
@@ -183,6 +185,7 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(mapping.mono_line_min_plane_angle_deg >= 0 && mapping.mono_line_min_plane_angle_deg < 90, file,
           "mapping.mono_line_min_plane_angle_deg", "must be in [0, 90)");
   require(mapping.mono_ba_line_weight >= 0, file, "mapping.mono_ba_line_weight", "must not be negative");
+  require(mapping.mono_point_min_parallax_deg >= 0, file, "mapping.mono_point_min_parallax_deg", "must not be negative");
   require(klt.min_ncc >= -1 && klt.min_ncc <= 1, file, "klt.min_ncc", "must be in [-1, 1]");
   require(klt.stereo_min_horizontal_share >= 0 && klt.stereo_min_horizontal_share < 1, file,
           "klt.stereo_min_horizontal_share", "must be in [0, 1) (0: off)");

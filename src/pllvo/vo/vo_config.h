@@ -164,6 +164,17 @@ struct MappingConfig {
   /// relative to points (a ceiling on backend.bundle_adjustment.line_weight in mono). Lines from
   /// short monocular baselines otherwise pull the scale in low light (docs/vo.md, session 7).
   double mono_ba_line_weight = 0.25;
+  /// Monocular runs: new points are triangulated once the keyframes' baseline subtends
+  /// geometry.point_triangulation.min_parallax_deg at the median depth of the keyframe's map
+  /// points, whatever the angle between the point's own rays. Gating each point on its measured
+  /// parallax keeps the points whose noise widened their rays, so their depths are too short and
+  /// the scale shrinks with every generation of points, faster in low light. Measured mixed over
+  /// 20 synthetic runs (better on medium_lowlight, medium_lightoff, medium_flicker, difficult_normal;
+  /// worse on difficult_lowlight, difficult_flicker, easy_lowlight: docs/vo.md, session 8): off.
+  bool mono_baseline_parallax_gate = false;
+  /// Under that gate, each point still needs this angle between its own rays (deg): far points
+  /// with almost parallel rays get depths of pure noise.
+  double mono_point_min_parallax_deg = 0.5;
 };
 
 /// Whole-pipeline switches for ablations and baselines (pllvo bench): each turns one of the

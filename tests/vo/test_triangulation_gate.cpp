@@ -1,0 +1,37 @@
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "pllvo/vo/geometry_adapter.h"
+
+namespace pllvo::vo {
+namespace {
+
+geometry::Pose camera_at(double x, double y, double z) {
+  geometry::Pose T = geometry::Pose::Identity();
+  T.translation() = Eigen::Vector3d(x, y, z);
+  return T;
+}
+
+TEST(TriangulationGate, BaselineSubtendsTheAngleAtTheSceneDepth) {
+  // 1 deg at 4 m needs a baseline of 2 * 4 * tan(0.5 deg) = 6.98 cm; the widest view decides.
+  const geometry::Pose current = camera_at(0, 0, 0);
+  const double needed = 2.0 * 4.0 * std::tan(0.5 * M_PI / 180.0);
+  EXPECT_TRUE(baseline_subtends({camera_at(1.01 * needed, 0, 0)}, current, 4.0, 1.0));
+  EXPECT_FALSE(baseline_subtends({camera_at(0.99 * needed, 0, 0)}, current, 4.0, 1.0));
+  EXPECT_TRUE(baseline_subtends({camera_at(0.01, 0, 0), camera_at(0, 0.99 * needed, 0.03)}, current, 4.0, 1.0));
+  EXPECT_FALSE(baseline_subtends({camera_at(0.01, 0, 0), camera_at(0.02, 0, 0)}, current, 4.0, 1.0));
+  EXPECT_FALSE(baseline_subtends({camera_at(1, 0, 0)}, current, 0.0, 1.0));  // no scene depth: no decision
+}
+
+TEST(TriangulationGate, MedianDepthIsTakenInTheCameraAndSkipsPointsBehindIt) {
+  // Camera 1 m along z looking along +z: depths 1, 2, 3, 9 (and one point behind it, left out).
+  const geometry::Pose T_world_cam = camera_at(0.3, -0.2, 1.0);
+  const std::vector<Eigen::Vector3d> points = {{0.3, -0.2, 2.0}, {1.0, 0.5, 3.0}, {0.0, 0.0, 4.0},
+                                               {-2.0, 1.0, 10.0}, {0.3, -0.2, 0.5}};
+  EXPECT_DOUBLE_EQ(median_depth(points, T_world_cam), 3.0);
+  EXPECT_DOUBLE_EQ(median_depth({}, T_world_cam), 0.0);
+}
+
+}  // namespace
+}  // namespace pllvo::vo
