@@ -169,7 +169,7 @@ struct MappingConfig {
   /// points, whatever the angle between the point's own rays. Gating each point on its measured
   /// parallax keeps the points whose noise widened their rays, so their depths are too short and
   /// the scale shrinks with every generation of points, faster in low light. Measured mixed over
-  /// 20 synthetic runs (better on medium_lowlight, medium_lightoff, medium_flicker, difficult_normal;
+  /// 26 synthetic runs (better on medium_lowlight, medium_lightoff, medium_flicker, difficult_normal;
   /// worse on difficult_lowlight, difficult_flicker, easy_lowlight: docs/vo.md, session 8): off.
   bool mono_baseline_parallax_gate = false;
   /// Under that gate, each point still needs this angle between its own rays (deg): far points
