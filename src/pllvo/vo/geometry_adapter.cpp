@@ -8,6 +8,7 @@
 
 #include "pllvo/backend/pose_refiner.h"
 #include "pllvo/backend/sliding_window_ba.h"
+#include "pllvo/common/statistics.h"
 #include "pllvo/geometry/pnp.h"
 #include "pllvo/geometry/reprojection.h"
 #include "pllvo/geometry/stereo_triangulation.h"
@@ -128,9 +129,7 @@ double median_depth(const std::vector<Eigen::Vector3d>& points_world, const geom
   std::vector<double> z;
   for (const auto& p : points_world)
     if (const double d = (T_cam_world * p).z(); d > 0) z.push_back(d);
-  if (z.empty()) return 0.0;
-  std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
-  return z[z.size() / 2];
+  return median(std::move(z));
 }
 
 geometry::Pose T_left_right(double baseline) {

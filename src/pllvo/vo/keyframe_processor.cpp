@@ -248,19 +248,18 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job) {
         if (ids[i] != kNoId) seen.push_back(positions[i]);
       scene_depth = median_depth(seen, job.T_world_cam);
     }
-    geometry::PointTriangulationConfig point_floor = config_.geometry.point_triangulation;
-    point_floor.min_parallax_deg = config_.mapping.mono_point_min_parallax_deg;
+    const bool gated = scene_depth > 0;
+    geometry::PointTriangulationConfig triangulation = config_.geometry.point_triangulation;
+    if (gated) triangulation.min_parallax_deg = config_.mapping.mono_point_min_parallax_deg;
     for (size_t i = 0; i < n; ++i) {
       if (ids[i] != kNoId || stereo[i] || views[i].px.empty()) continue;
       Views v = views[i];
-      const bool gated = scene_depth > 0;
       if (gated && !baseline_subtends(v.T_world_cam, job.T_world_cam, scene_depth,
                                       config_.geometry.point_triangulation.min_parallax_deg))
         continue;
       v.T_world_cam.push_back(job.T_world_cam);
       v.px.push_back(to_eigen(features.points[i]));
-      triangulated[i] =
-          triangulate_point(camera_, v.T_world_cam, v.px, gated ? point_floor : config_.geometry.point_triangulation);
+      triangulated[i] = triangulate_point(camera_, v.T_world_cam, v.px, triangulation);
     }
   }
   // Without stereo lines the points alone decide a stereo start: no line work on a failed one.

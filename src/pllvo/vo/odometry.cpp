@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "pllvo/common/error.h"
+#include "pllvo/common/statistics.h"
 #include "pllvo/features/lines/cross_constraint.h"
 
 namespace pllvo::vo {
@@ -25,12 +26,6 @@ Eigen::Vector2d to_eigen(const cv::Point2f& p) { return {p.x, p.y}; }
 int count_mapped(const std::vector<TrackedPoint>& tracks) {
   return static_cast<int>(
       std::count_if(tracks.begin(), tracks.end(), [](const TrackedPoint& t) { return t.point != kNoId; }));
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 /// Re-detection baseline (pipeline.line_tracking: redetect): each expected segment takes the

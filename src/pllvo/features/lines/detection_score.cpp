@@ -7,15 +7,11 @@
 #include <map>
 #include <utility>
 
+#include "pllvo/common/statistics.h"
+
 namespace pllvo::lines {
 
 namespace {
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const auto mid = v.begin() + static_cast<long>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
 
 // Length of the union of intervals clipped to [0, len].
 double union_length(std::vector<std::pair<double, double>> iv, double len) {

@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include <opencv2/imgproc.hpp>
+
+#include "pllvo/common/statistics.h"
 
 namespace pllvo::lines {
 
@@ -40,12 +43,7 @@ double TrackingEvaluation::kept_share() const {
   return on_truth > 0 && !kept_per_frame.empty() ? static_cast<double>(kept_per_frame.back()) / on_truth : 0.0;
 }
 
-double TrackingEvaluation::median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const auto mid = v.begin() + static_cast<long>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
+double TrackingEvaluation::median(std::vector<double> v) { return pllvo::median(std::move(v)); }
 
 namespace {
 // Truth id of the true segment both endpoints of `s` lie near, or -1.
