@@ -27,6 +27,10 @@ cv::Mat shifted(const cv::Mat& image, double dx, double dy) {
   return out;
 }
 
+int rejections(const TrackResult& r) {
+  return r.rejected.lk + r.rejected.border + r.rejected.forward_backward + r.rejected.appearance;
+}
+
 std::vector<cv::Point2f> grid_points(cv::Size size, int step, int margin) {
   std::vector<cv::Point2f> pts;
   for (int y = margin; y < size.height - margin; y += step)
@@ -161,6 +165,12 @@ TEST(PointTracker, ForwardBackwardCheckRejectsOccludedPoints) {
   ASSERT_GT(inside, 20);
   EXPECT_GE(inside_rejected, 0.9 * inside);
   EXPECT_GE(outside_kept, 0.95 * outside);
+  // Every dropped track has exactly one reason; an occluder fails the consistency checks
+  // (forward-backward or appearance), not the image border.
+  EXPECT_EQ(rejections(r), static_cast<int>(pts.size()) - r.tracked());
+  EXPECT_EQ(r.rejected.border, 0);
+  EXPECT_GE(r.rejected.forward_backward + r.rejected.appearance + r.rejected.lk, inside_rejected);
+  EXPECT_GT(r.rejected.forward_backward + r.rejected.appearance, 0);
 }
 
 TEST(PointTracker, DropsPointsLeavingTheImage) {
@@ -172,6 +182,8 @@ TEST(PointTracker, DropsPointsLeavingTheImage) {
   const TrackResult r = tracker.track(tracker.build_pyramid(a), tracker.build_pyramid(b), pts);
   EXPECT_FALSE(r.ok[0]);  // would land at x = 325, outside
   EXPECT_TRUE(r.ok[1]);
+  EXPECT_EQ(rejections(r), 1);
+  EXPECT_EQ(r.rejected.lk + r.rejected.border, 1);  // LK may already give up at the edge
 }
 
 TEST(PointTracker, PredictionReachesMotionBeyondThePyramid) {
@@ -201,6 +213,7 @@ TEST(PointTracker, BlankImagesTrackNothingAndDoNotThrow) {
   const auto pts = grid_points(black.size(), 40, 20);
   const TrackResult r = tracker.track(tracker.build_pyramid(black), tracker.build_pyramid(grey), pts);
   EXPECT_EQ(r.tracked(), 0);
+  EXPECT_EQ(r.rejected.lk, static_cast<int>(pts.size()));  // no gradient: LK itself refuses
 }
 
 }  // namespace

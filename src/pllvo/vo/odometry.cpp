@@ -270,6 +270,9 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   for (size_t i = 0; i < ref.current.size(); ++i)
     if (ref.alive[i]) ref.history.back().second[i] = ref.current[i];
   const int alive = static_cast<int>(px0.size());
+  spdlog::debug("frame {}: monocular start from frame {}: {} of {} points followed, median flow {:.1f} px (needs {} and {:.0f})",
+                frame.index, ref.frame_index, alive, ref.features.size(), flow.empty() ? 0.0 : median(flow),
+                config_.init.min_points, config_.init.mono_min_flow_px);
   if (alive < config_.init.min_points || ref.frames > static_cast<size_t>(config_.init.max_frames)) {
     start_mono_reference(frame, left);
     return false;
@@ -414,6 +417,10 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     tr = tracker_.track(previous_pyramid_, pyramid, from, &predicted);
     retrack_on_local_contrast(left, from, predicted, tr);
   }
+  stats_.add_count("klt_rejected.lk", tr.rejected.lk);
+  stats_.add_count("klt_rejected.border", tr.rejected.border);
+  stats_.add_count("klt_rejected.forward_backward", tr.rejected.forward_backward);
+  stats_.add_count("klt_rejected.appearance", tr.rejected.appearance);
 
   // Lines: predicted from their 3-D segment when they have one, followed by line optical flow.
   std::vector<LineMeasurement> line_measurements;

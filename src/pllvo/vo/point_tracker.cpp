@@ -53,14 +53,26 @@ TrackResult PointTracker::track(const ImagePyramid& from, const ImagePyramid& to
                            config_.min_eigen_threshold);
   const float border = static_cast<float>(config_.border_px);
   const float max_x = to.size().width - 1 - border, max_y = to.size().height - 1 - border;
+  auto& rejected = result.rejected;
   for (size_t i = 0; i < n; ++i) {
-    if (!forward_ok[i] || !backward_ok[i]) continue;
+    if (!forward_ok[i] || !backward_ok[i]) {
+      ++rejected.lk;
+      continue;
+    }
     const cv::Point2f& p = result.points[i];
-    if (!(p.x >= border && p.y >= border && p.x <= max_x && p.y <= max_y)) continue;
+    if (!(p.x >= border && p.y >= border && p.x <= max_x && p.y <= max_y)) {
+      ++rejected.border;
+      continue;
+    }
     const float fb = static_cast<float>(cv::norm(back[i] - points[i]));
     result.fb_error[i] = fb;
-    result.ok[i] = fb <= config_.fb_threshold_px &&
-                   (config_.min_ncc <= -1.0 || patch_ncc(from.image, points[i], to.image, p, config_.window_px) >= config_.min_ncc);
+    if (fb > config_.fb_threshold_px) {
+      ++rejected.forward_backward;
+      continue;
+    }
+    result.ok[i] = config_.min_ncc <= -1.0 ||
+                   patch_ncc(from.image, points[i], to.image, p, config_.window_px) >= config_.min_ncc;
+    if (!result.ok[i]) ++rejected.appearance;
   }
   return result;
 }

@@ -25,6 +25,12 @@ struct TrackResult {
   std::vector<cv::Point2f> points;  ///< positions in the target image (valid where ok)
   std::vector<unsigned char> ok;    ///< tracked, inside the image and passed the FB check
   std::vector<float> fb_error;      ///< forward-backward distance in pixels (inf when not tracked)
+  /// Why the others were dropped, one reason each, in the order checked: LK found no match
+  /// (either direction), the match left the image border, the forward-backward check, the
+  /// NCC appearance check. In low light and on faint texture this says which check to look at.
+  struct Rejections {
+    int lk = 0, border = 0, forward_backward = 0, appearance = 0;
+  } rejected;
   int tracked() const;
 };
 
