@@ -229,6 +229,8 @@ bool Odometry::initialize_stereo(const io::Frame& frame, const cv::Mat& left, co
 void Odometry::start_mono_reference(const io::Frame& frame, const cv::Mat& left) {
   PointFeatures features = processor_.detect(left);
   if (static_cast<int>(features.size()) < config_.init.min_points) {
+    spdlog::debug("frame {}: no monocular start: {} features (needs {})", frame.index, features.size(),
+                  config_.init.min_points);
     mono_.reset();
     return;
   }
