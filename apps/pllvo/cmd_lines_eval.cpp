@@ -10,6 +10,7 @@
 
 #include "commands.h"
 #include "pllvo/common/error.h"
+#include "pllvo/common/statistics.h"
 #include "pllvo/features/lines/line_evaluation.h"
 #include "pllvo/features/lines/lines_config.h"
 #include "pllvo/features/lines/polygon_scene.h"
@@ -63,13 +64,13 @@ void evaluate_synth_folder(const std::string& dir, const lines::LinesConfig& con
               t.started ? static_cast<double>(t.tracked.back()) / t.started : 0.0);
   std::printf("  endpoint error vs projected truth, median (px): at detection %.3f; tracked, all steps %.3f (%zu "
               "endpoints)",
-              lines::TrackingEvaluation::median(t.endpoint_errors[0]), lines::TrackingEvaluation::median(all),
+              median(t.endpoint_errors[0]), median(all),
               all.size());
   for (int j = 1; j <= chain; j *= 2)
-    std::printf(", step %d %.3f", j, lines::TrackingEvaluation::median(t.endpoint_errors[j]));
+    std::printf(", step %d %.3f", j, median(t.endpoint_errors[j]));
   if ((chain & (chain - 1)) != 0)
-    std::printf(", step %d %.3f", chain, lines::TrackingEvaluation::median(t.endpoint_errors[chain]));
-  std::printf("; distance to the true edge median %.3f px\n", lines::TrackingEvaluation::median(t.normal_errors));
+    std::printf(", step %d %.3f", chain, median(t.endpoint_errors[chain]));
+  std::printf("; distance to the true edge median %.3f px\n", median(t.normal_errors));
 }
 
 std::vector<std::string> split(const std::string& list) {
@@ -176,8 +177,8 @@ void add_lines_eval_command(CLI::App& app) {
                     "true edges, %d kept (%.1f%%); endpoint error median %.3f px; distance to the true segment "
                     "median %.3f px\n",
                     opt->tracking_frames, t.on_truth, t.kept_per_frame.back(), 100.0 * t.kept_share(),
-                    lines::TrackingEvaluation::median(t.endpoint_errors),
-                    lines::TrackingEvaluation::median(t.normal_errors));
+                    median(t.endpoint_errors),
+                    median(t.normal_errors));
       }
     }
   });

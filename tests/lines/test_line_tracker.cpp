@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "pllvo/common/error.h"
+#include "pllvo/common/statistics.h"
 #include "pllvo/common/fixtures.h"
 #include "pllvo/features/lines/line_detector.h"
 #include "pllvo/features/lines/line_evaluation.h"
@@ -222,7 +223,7 @@ TEST(LineTracker, TracksDetectedLinesOnEurocFrames) {
     err.push_back((tracks[i].line.end - motion * lines[i].end).norm());
   }
   EXPECT_GT(kept, 0.9 * lines.size());
-  EXPECT_LT(TrackingEvaluation::median(err), 0.1);
+  EXPECT_LT(pllvo::median(err), 0.1);
 }
 
 // A synthetic sequence (polygon scene moving 0.3 deg + 1.8 px per frame): lines stay on their
@@ -232,8 +233,8 @@ TEST(LineTracker, FollowsTrueEdgesOverASequence) {
   const auto ev = evaluate_tracking(seq.frames, {}, {}, {}, &seq.motions);
   ASSERT_GE(ev.on_truth, 30);
   EXPECT_GE(ev.kept_share(), 0.9);
-  EXPECT_LT(TrackingEvaluation::median(ev.normal_errors), 0.3);
-  EXPECT_LT(TrackingEvaluation::median(ev.endpoint_errors), 0.5);
+  EXPECT_LT(pllvo::median(ev.normal_errors), 0.3);
+  EXPECT_LT(pllvo::median(ev.endpoint_errors), 0.5);
 }
 
 // A global brightness change between the frames (flicker, exposure) breaks LK's constant

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "pllvo/common/error.h"
+#include "pllvo/common/statistics.h"
 #include "pllvo/features/lines/line_evaluation.h"
 #include "pllvo/features/lines/synth_line_sequence.h"
 #include "pllvo/synth/generator.h"
@@ -47,9 +48,9 @@ TEST(SynthLineSequence, TrackingFollowsTheProjectedTruth) {
   const auto t = evaluate_synth_tracking(seq, {}, {}, {}, 4, visible_truth());
   ASSERT_GE(t.started, 50);
   EXPECT_GE(t.kept_share_per_frame_in_image(), 0.5);
-  EXPECT_LT(TrackingEvaluation::median(t.endpoint_errors[1]), 1.0);
-  EXPECT_LT(TrackingEvaluation::median(t.all_endpoint_errors()), 1.2);
-  EXPECT_LT(TrackingEvaluation::median(t.normal_errors), 0.6);
+  EXPECT_LT(pllvo::median(t.endpoint_errors[1]), 1.0);
+  EXPECT_LT(pllvo::median(t.all_endpoint_errors()), 1.2);
+  EXPECT_LT(pllvo::median(t.normal_errors), 0.6);
 }
 
 // The folder reader gives what the generator renders; a folder without line truth is an error.

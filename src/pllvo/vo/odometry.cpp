@@ -272,14 +272,15 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   for (size_t i = 0; i < ref.current.size(); ++i)
     if (ref.alive[i]) ref.history.back().second[i] = ref.current[i];
   const int alive = static_cast<int>(px0.size());
+  const double median_flow = median(flow);
   spdlog::debug("frame {}: monocular start from frame {}: {} of {} points followed, median flow {:.1f} px (needs {} and {:.0f})",
-                frame.index, ref.frame_index, alive, ref.features.size(), flow.empty() ? 0.0 : median(flow),
-                config_.init.min_points, config_.init.mono_min_flow_px);
+                frame.index, ref.frame_index, alive, ref.features.size(), median_flow, config_.init.min_points,
+                config_.init.mono_min_flow_px);
   if (alive < config_.init.min_points || ref.frames > static_cast<size_t>(config_.init.max_frames)) {
     start_mono_reference(frame, left);
     return false;
   }
-  if (median(flow) < config_.init.mono_min_flow_px) return false;
+  if (median_flow < config_.init.mono_min_flow_px) return false;
 
   const TwoViewInit two_view = initialize_two_view(camera_, px0, px1, config_.geometry.two_view);
   if (!two_view.ok) {

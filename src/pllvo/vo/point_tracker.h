@@ -23,7 +23,7 @@ struct ImagePyramid {
 
 struct TrackResult {
   std::vector<cv::Point2f> points;  ///< positions in the target image (valid where ok)
-  std::vector<unsigned char> ok;    ///< tracked, inside the image and passed the FB check
+  std::vector<unsigned char> ok;    ///< tracked, inside the image, passed the FB and NCC checks
   std::vector<float> fb_error;      ///< forward-backward distance in pixels (inf when not tracked)
   /// Why the others were dropped, one reason each, in the order checked: LK found no match
   /// (either direction), the match left the image border, the forward-backward check, the

@@ -7,8 +7,6 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "pllvo/common/statistics.h"
-
 namespace pllvo::lines {
 
 std::vector<LineSegment> detect_lsd(const cv::Mat& gray) {
@@ -42,8 +40,6 @@ DetectorComparison compare_detectors(const std::vector<TruthFrame>& frames, cons
 double TrackingEvaluation::kept_share() const {
   return on_truth > 0 && !kept_per_frame.empty() ? static_cast<double>(kept_per_frame.back()) / on_truth : 0.0;
 }
-
-double TrackingEvaluation::median(std::vector<double> v) { return pllvo::median(std::move(v)); }
 
 namespace {
 // Truth id of the true segment both endpoints of `s` lie near, or -1.

@@ -44,7 +44,6 @@ struct TrackingEvaluation {
   std::vector<double> endpoint_errors;
 
   double kept_share() const;  ///< kept at the last frame / on_truth
-  static double median(std::vector<double> v);
 };
 
 /// Detects lines in frame 0, applies the cross constraint, and tracks them frame to frame to
