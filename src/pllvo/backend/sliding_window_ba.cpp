@@ -1,7 +1,6 @@
 #include "pllvo/backend/sliding_window_ba.h"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -21,8 +20,6 @@ const geometry::Choices<BaJacobians> kJacobianChoices = {{"analytic", BaJacobian
 const geometry::Choices<BaLinearSolver> kSolverChoices = {{"dense_schur", BaLinearSolver::kDenseSchur},
                                                           {"sparse_schur", BaLinearSolver::kSparseSchur}};
 
-using PoseBlock = std::array<double, kPoseBlockSize>;
-using LineBlock = std::array<double, kLineBlockSize>;
 
 void check_index(int index, size_t size, const char* what) {
   if (index < 0 || static_cast<size_t>(index) >= size)
@@ -45,19 +42,34 @@ void validate(const BaProblem& p) {
 }
 
 /// Parameter blocks of a BaProblem and the residual norms (pixels) of its observations.
+/// All blocks live in one buffer, poses then points then lines. Ceres orders the blocks of an
+/// elimination group by address: in separate vectors, points and lines would come in the order
+/// the heap happened to place them, which follows earlier allocations (a progress line printed
+/// on a timer is one), and the Schur sums would change in the last bits from run to run. The
+/// monocular runs are chaotic enough that those bits move the ATE by a factor of 2
+/// (docs/vo.md, session 10).
 class BlockState {
  public:
-  explicit BlockState(const BaProblem& p, double line_weight) : problem_(p), line_scale_(p.focal_px * line_weight) {
-    poses.resize(p.keyframes.size());
-    for (size_t i = 0; i < poses.size(); ++i) pose_to_block(p.keyframes[i].T_world_cam.inverse(), poses[i].data());
-    points.resize(p.points.size());
-    for (size_t i = 0; i < points.size(); ++i) points[i] = p.points[i].p_world;
-    lines.resize(p.lines.size());
-    for (size_t i = 0; i < lines.size(); ++i) {
-      Eigen::Map<Eigen::Vector3d>(lines[i].data()) = p.lines[i].segment_world.start;
-      Eigen::Map<Eigen::Vector3d>(lines[i].data() + 3) = p.lines[i].segment_world.end;
+  explicit BlockState(const BaProblem& p, double line_weight)
+      : problem_(p),
+        line_scale_(p.focal_px * line_weight),
+        points_at_(kPoseBlockSize * p.keyframes.size()),
+        lines_at_(points_at_ + 3 * p.points.size()),
+        storage_(lines_at_ + kLineBlockSize * p.lines.size()) {
+    for (size_t i = 0; i < p.keyframes.size(); ++i) pose_to_block(p.keyframes[i].T_world_cam.inverse(), pose(i));
+    for (size_t i = 0; i < p.points.size(); ++i) Eigen::Map<Eigen::Vector3d>(point(i)) = p.points[i].p_world;
+    for (size_t i = 0; i < p.lines.size(); ++i) {
+      Eigen::Map<Eigen::Vector3d>(line(i)) = p.lines[i].segment_world.start;
+      Eigen::Map<Eigen::Vector3d>(line(i) + 3) = p.lines[i].segment_world.end;
     }
   }
+
+  double* pose(size_t i) { return storage_.data() + kPoseBlockSize * i; }
+  double* point(size_t i) { return storage_.data() + points_at_ + 3 * i; }
+  double* line(size_t i) { return storage_.data() + lines_at_ + kLineBlockSize * i; }
+  const double* pose(size_t i) const { return storage_.data() + kPoseBlockSize * i; }
+  const double* point(size_t i) const { return storage_.data() + points_at_ + 3 * i; }
+  const double* line(size_t i) const { return storage_.data() + lines_at_ + kLineBlockSize * i; }
 
   const Pose& extrinsic(int camera) const {
     return problem_.T_cam_cam0.empty() ? identity_ : problem_.T_cam_cam0[camera];
@@ -65,26 +77,25 @@ class BlockState {
 
   /// Residual norm (pixels) of a point observation; NaN when it cannot be evaluated.
   double point_error(const BaPointObservation& o) const {
-    const double* params[2] = {poses[o.keyframe].data(), points[o.point].data()};
+    const double* params[2] = {pose(o.keyframe), point(o.point)};
     double r[2];
     if (!PointReprojectionCost(o.xy, extrinsic(o.camera), problem_.focal_px).Evaluate(params, r, nullptr)) return NAN;
     return std::hypot(r[0], r[1]);
   }
 
   double line_error(const BaLineObservation& o) const {
-    const double* params[2] = {poses[o.keyframe].data(), lines[o.line].data()};
+    const double* params[2] = {pose(o.keyframe), line(o.line)};
     double r[2];
     if (!LineReprojectionCost(o.line_coeffs, extrinsic(o.camera), line_scale_).Evaluate(params, r, nullptr)) return NAN;
     return std::hypot(r[0], r[1]);
   }
 
-  std::vector<PoseBlock> poses;
-  std::vector<Eigen::Vector3d> points;
-  std::vector<LineBlock> lines;
 
  private:
   const BaProblem& problem_;
   double line_scale_;
+  size_t points_at_, lines_at_;
+  std::vector<double> storage_;
   const Pose identity_ = Pose::Identity();
 };
 
@@ -160,7 +171,7 @@ BaSummary SlidingWindowBA::optimize(BaProblem& P) const {
     initial_point_error[j] = state.point_error(o);
     if (!std::isfinite(initial_point_error[j])) continue;
     point_ids[j] = problem.AddResidualBlock(new_point_cost(o.xy, state.extrinsic(o.camera), P.focal_px, autodiff),
-                                            point_loss, state.poses[o.keyframe].data(), state.points[o.point].data());
+                                            point_loss, state.pose(o.keyframe), state.point(o.point));
   }
   for (size_t j = 0; j < P.line_observations.size(); ++j) {
     const auto& o = P.line_observations[j];
@@ -168,7 +179,7 @@ BaSummary SlidingWindowBA::optimize(BaProblem& P) const {
     if (!std::isfinite(initial_line_error[j])) continue;
     line_ids[j] = problem.AddResidualBlock(
         new_line_cost(o.line_coeffs, state.extrinsic(o.camera), P.focal_px * config_.line_weight, autodiff),
-        line_loss, state.poses[o.keyframe].data(), state.lines[o.line].data());
+        line_loss, state.pose(o.keyframe), state.line(o.line));
   }
   // Unused losses (no residual took them) are not owned by the problem.
   std::unique_ptr<ceres::LossFunction> point_loss_guard, line_loss_guard;
@@ -180,7 +191,7 @@ BaSummary SlidingWindowBA::optimize(BaProblem& P) const {
   ceres::Manifold* pose_manifold = new_pose_manifold();
   bool pose_manifold_used = false;
   for (int i = 0; i < nk; ++i) {
-    double* block = state.poses[i].data();
+    double* block = state.pose(i);
     if (!problem.HasParameterBlock(block)) continue;
     problem.SetManifold(block, pose_manifold);
     pose_manifold_used = true;
@@ -190,14 +201,14 @@ BaSummary SlidingWindowBA::optimize(BaProblem& P) const {
   }
   if (!pose_manifold_used) delete pose_manifold;
   for (size_t i = 0; i < P.points.size(); ++i) {
-    double* block = state.points[i].data();
+    double* block = state.point(i);
     if (!problem.HasParameterBlock(block)) continue;
     ordering->AddElementToGroup(block, 0);
     if (P.points[i].fixed || point_count[i] < config_.min_point_observations) problem.SetParameterBlockConstant(block);
     else ++S.num_free_points;
   }
   for (size_t i = 0; i < P.lines.size(); ++i) {
-    double* block = state.lines[i].data();
+    double* block = state.line(i);
     if (!problem.HasParameterBlock(block)) continue;
     problem.SetManifold(block, new LineEndpointManifold(P.lines[i].segment_world.end - P.lines[i].segment_world.start));
     ordering->AddElementToGroup(block, 0);
@@ -251,15 +262,15 @@ BaSummary SlidingWindowBA::optimize(BaProblem& P) const {
   // Write back the free values only: fixed ones stay bit-identical.
   if (S.ok) {
     for (int i = 0; i < nk; ++i)
-      if (problem.HasParameterBlock(state.poses[i].data()) && !problem.IsParameterBlockConstant(state.poses[i].data()))
-        P.keyframes[i].T_world_cam = block_to_pose(state.poses[i].data()).inverse();
+      if (problem.HasParameterBlock(state.pose(i)) && !problem.IsParameterBlockConstant(state.pose(i)))
+        P.keyframes[i].T_world_cam = block_to_pose(state.pose(i)).inverse();
     for (size_t i = 0; i < P.points.size(); ++i)
-      if (problem.HasParameterBlock(state.points[i].data()) && !problem.IsParameterBlockConstant(state.points[i].data()))
-        P.points[i].p_world = state.points[i];
+      if (problem.HasParameterBlock(state.point(i)) && !problem.IsParameterBlockConstant(state.point(i)))
+        P.points[i].p_world = Eigen::Map<const Eigen::Vector3d>(state.point(i));
     for (size_t i = 0; i < P.lines.size(); ++i)
-      if (problem.HasParameterBlock(state.lines[i].data()) && !problem.IsParameterBlockConstant(state.lines[i].data())) {
-        P.lines[i].segment_world.start = Eigen::Map<const Eigen::Vector3d>(state.lines[i].data());
-        P.lines[i].segment_world.end = Eigen::Map<const Eigen::Vector3d>(state.lines[i].data() + 3);
+      if (problem.HasParameterBlock(state.line(i)) && !problem.IsParameterBlockConstant(state.line(i))) {
+        P.lines[i].segment_world.start = Eigen::Map<const Eigen::Vector3d>(state.line(i));
+        P.lines[i].segment_world.end = Eigen::Map<const Eigen::Vector3d>(state.line(i) + 3);
       }
   }
 
