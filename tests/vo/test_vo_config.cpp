@@ -46,6 +46,12 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_DOUBLE_EQ(file.mapping.lightglue_depth_confidence, code.mapping.lightglue_depth_confidence);
   EXPECT_DOUBLE_EQ(file.mapping.lightglue_width_confidence, code.mapping.lightglue_width_confidence);
   EXPECT_EQ(file.mapping.matcher, code.mapping.matcher);
+  EXPECT_EQ(file.mapping.projection_search.enabled, code.mapping.projection_search.enabled);
+  EXPECT_EQ(file.mapping.projection_search.keyframes, code.mapping.projection_search.keyframes);
+  EXPECT_DOUBLE_EQ(file.mapping.projection_search.radius_px, code.mapping.projection_search.radius_px);
+  EXPECT_DOUBLE_EQ(file.mapping.projection_search.max_float_distance, code.mapping.projection_search.max_float_distance);
+  EXPECT_EQ(file.mapping.projection_search.max_hamming, code.mapping.projection_search.max_hamming);
+  EXPECT_DOUBLE_EQ(file.mapping.projection_search.ratio, code.mapping.projection_search.ratio);
   EXPECT_EQ(file.run.threaded, code.run.threaded);
   EXPECT_EQ(file.pipeline.lines, code.pipeline.lines);
   EXPECT_EQ(file.pipeline.lines_in_mono, code.pipeline.lines_in_mono);
@@ -66,6 +72,22 @@ TEST(VoConfig, PipelineSwitchesAreReadAndChecked) {
     FAIL() << "accepted line_tracking: optical";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("pipeline.line_tracking"), std::string::npos) << e.what();
+  }
+}
+
+TEST(VoConfig, ProjectionSearchIsReadAndChecked) {
+  const VoConfig c = VoConfig::load(write_yaml(
+      "projection", "mapping:\n  projection_search:\n    enabled: false\n    keyframes: 4\n    radius_px: 3.5\n"));
+  EXPECT_FALSE(c.mapping.projection_search.enabled);
+  EXPECT_EQ(c.mapping.projection_search.keyframes, 4);
+  EXPECT_DOUBLE_EQ(c.mapping.projection_search.radius_px, 3.5);
+  for (const char* bad : {"ratio: 1.5", "keyframes: 0", "radius_px: 0", "radious_px: 3"}) {
+    try {
+      VoConfig::load(write_yaml("badprojection", std::string("mapping:\n  projection_search:\n    ") + bad + "\n"));
+      FAIL() << "accepted " << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("projection_search"), std::string::npos) << e.what();
+    }
   }
 }
 

@@ -139,6 +139,27 @@ geometry::Pose KeyframeProcessor::current_pose(const KeyframeJob& job) {
   return e.ok ? e.T_world_cam : job.T_world_cam;
 }
 
+void KeyframeProcessor::reattach_by_projection(const geometry::Pose& T_world_cam, const PointFeatures& features,
+                                                std::vector<Id>& ids, std::vector<Observation>& origins,
+                                                std::vector<Observation>& previous) {
+  const auto& config = config_.mapping.projection_search;
+  if (!config.enabled) return;
+  ScopedTimer t(stats_, "kf_projection_search");
+  const size_t count = std::min(static_cast<size_t>(config.keyframes), segment_keyframes_.size());
+  const std::vector<Id> recent(segment_keyframes_.end() - static_cast<std::ptrdiff_t>(count), segment_keyframes_.end());
+  const std::vector<Id> found = map_.read([&](const MapData& m) {
+    return search_by_projection(m, recent, camera_, T_world_cam, features, ids, config);
+  });
+  int reattached = 0;
+  for (size_t i = 0; i < found.size(); ++i) {
+    if (found[i] == kNoId) continue;
+    ids[i] = found[i];
+    origins[i] = previous[i] = Observation{};  // a point now: no longer a candidate
+    ++reattached;
+  }
+  stats_.add_sample("kf_reattached_points", reattached);
+}
+
 KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job) {
   ScopedTimer total(stats_, "kf_total");
   KeyframeJob job = original_job;
@@ -194,6 +215,8 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job) {
       }
     }
   }
+
+  if (has_prev) reattach_by_projection(job.T_world_cam, features, ids, origins, previous);
 
   // Map points and the earlier views of candidates, read once.
   struct Views {

@@ -13,6 +13,7 @@
 #include "pllvo/vo/map.h"
 #include "pllvo/vo/point_frontend.h"
 #include "pllvo/vo/point_tracker.h"
+#include "pllvo/vo/projection_search.h"
 #include "pllvo/vo/run_stats.h"
 #include "pllvo/vo/vo_config.h"
 
@@ -88,6 +89,10 @@ class KeyframeProcessor {
   std::vector<std::optional<Eigen::Vector3d>> stereo_points(const KeyframeJob& job, const PointFeatures& features,
                                                             const std::vector<Id>& ids,
                                                             std::vector<cv::Point2f>& right_px);
+  /// Features without a point that match a recent keyframe's point by projection get it
+  /// (mapping.projection_search); they stop being candidates.
+  void reattach_by_projection(const geometry::Pose& T_world_cam, const PointFeatures& features, std::vector<Id>& ids,
+                              std::vector<Observation>& origins, std::vector<Observation>& previous);
 
   VoConfig config_;
   Pinhole camera_;

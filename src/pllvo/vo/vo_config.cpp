@@ -91,6 +91,14 @@ void read_mapping(const ConfigNode& n, MappingConfig& c) {
   n.get("mono_ba_line_weight", c.mono_ba_line_weight);
   n.get("mono_baseline_parallax_gate", c.mono_baseline_parallax_gate);
   n.get("mono_point_min_parallax_deg", c.mono_point_min_parallax_deg);
+  const ConfigNode ps = n.child("projection_search");
+  ps.get("enabled", c.projection_search.enabled);
+  ps.get("keyframes", c.projection_search.keyframes);
+  ps.get("radius_px", c.projection_search.radius_px);
+  ps.get("max_float_distance", c.projection_search.max_float_distance);
+  ps.get("max_hamming", c.projection_search.max_hamming);
+  ps.get("ratio", c.projection_search.ratio);
+  ps.reject_unknown_keys();
   n.reject_unknown_keys();
 }
 
@@ -185,6 +193,12 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(mapping.mono_line_min_plane_angle_deg >= 0 && mapping.mono_line_min_plane_angle_deg < 90, file,
           "mapping.mono_line_min_plane_angle_deg", "must be in [0, 90)");
   require(mapping.mono_ba_line_weight >= 0, file, "mapping.mono_ba_line_weight", "must not be negative");
+  const auto& ps = mapping.projection_search;
+  require(ps.keyframes >= 1, file, "mapping.projection_search.keyframes", "must be >= 1");
+  require(ps.radius_px > 0, file, "mapping.projection_search.radius_px", "must be > 0");
+  require(ps.max_float_distance > 0, file, "mapping.projection_search.max_float_distance", "must be > 0");
+  require(ps.max_hamming > 0, file, "mapping.projection_search.max_hamming", "must be > 0");
+  require(ps.ratio > 0 && ps.ratio <= 1, file, "mapping.projection_search.ratio", "must be in (0, 1]");
   require(mapping.mono_point_min_parallax_deg >= 0, file, "mapping.mono_point_min_parallax_deg", "must not be negative");
   require(klt.min_ncc >= -1 && klt.min_ncc <= 1, file, "klt.min_ncc", "must be in [-1, 1]");
   require(klt.stereo_min_horizontal_share >= 0 && klt.stereo_min_horizontal_share < 1, file,

@@ -140,6 +140,17 @@ struct PoseConfig {
   int min_inliers_with_prior = 5;
 };
 
+/// New keyframes: their features without a point matched with recent keyframes' points by
+/// projection and descriptor (projection_search.h explains why).
+struct ProjectionSearchConfig {
+  bool enabled = true;
+  int keyframes = 10;          ///< points seen by this many newest keyframes of the segment
+  double radius_px = 5.0;      ///< around each point's projection
+  double max_float_distance = 0.7;  ///< unit-norm float descriptors (SuperPoint): L2 distance
+  int max_hamming = 50;        ///< binary descriptors (ORB): Hamming distance
+  double ratio = 0.9;          ///< best over second-best distance among the features in the radius
+};
+
 /// Keyframe processing on the worker: matching, triangulation (geometry.point_triangulation,
 /// geometry.line_triangulation), sliding-window BA (backend.bundle_adjustment).
 struct MappingConfig {
@@ -175,6 +186,7 @@ struct MappingConfig {
   /// Under that gate, each point still needs this angle between its own rays (deg): far points
   /// with almost parallel rays get depths of pure noise.
   double mono_point_min_parallax_deg = 0.5;
+  ProjectionSearchConfig projection_search;
 };
 
 /// Whole-pipeline switches for ablations and baselines (pllvo bench): each turns one of the
