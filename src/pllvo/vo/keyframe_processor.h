@@ -1,6 +1,7 @@
 #pragma once
 // Everything done once per keyframe, on the worker thread: point detection, association with
-// the map (KLT tracks and descriptor matches with the previous keyframe), new 3-D points
+// the map (KLT tracks, descriptor matches with the previous keyframe, and the recent keyframes'
+// points found by projection), new 3-D points
 // (stereo or two-view triangulation), and the sliding-window bundle adjustment.
 #include <memory>
 #include <vector>
