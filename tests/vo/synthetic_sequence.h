@@ -54,18 +54,30 @@ inline std::filesystem::path rendered(const synth::SequenceSpec& spec, const std
   return dir;
 }
 
-/// A sequence whose frames [first, last] are black (a covered lens, a light switched off).
-class BlackedOutSequence : public io::Sequence {
+/// Another sequence's frames, calibration, timestamps and ground truth, for wrappers that
+/// change what frame() returns.
+class WrappedSequence : public io::Sequence {
  public:
-  BlackedOutSequence(std::unique_ptr<io::Sequence> inner, size_t first, size_t last)
-      : io::Sequence(inner->root()), inner_(std::move(inner)), first_(first), last_(last) {
+  explicit WrappedSequence(std::unique_ptr<io::Sequence> inner)
+      : io::Sequence(inner->root()), inner_(std::move(inner)) {
     calib_ = inner_->calibration();
     stamps_ = inner_->timestamps();
     ground_truth_ = inner_->ground_truth();
   }
   std::string format() const override { return inner_->format(); }
+  io::Frame frame(size_t i) const override { return inner_->frame(i); }
+
+ private:
+  std::unique_ptr<io::Sequence> inner_;
+};
+
+/// A sequence whose frames [first, last] are black (a covered lens, a light switched off).
+class BlackedOutSequence : public WrappedSequence {
+ public:
+  BlackedOutSequence(std::unique_ptr<io::Sequence> inner, size_t first, size_t last)
+      : WrappedSequence(std::move(inner)), first_(first), last_(last) {}
   io::Frame frame(size_t i) const override {
-    io::Frame f = inner_->frame(i);
+    io::Frame f = WrappedSequence::frame(i);
     if (i >= first_ && i <= last_) {
       f.left.setTo(0);
       if (!f.right.empty()) f.right.setTo(0);
@@ -74,7 +86,6 @@ class BlackedOutSequence : public io::Sequence {
   }
 
  private:
-  std::unique_ptr<io::Sequence> inner_;
   size_t first_, last_;
 };
 

@@ -19,21 +19,15 @@ using testing::deterministic;
 
 /// A sequence that leaves memory allocated behind every frame it reads, a different amount
 /// each frame: the heap then places everything the pipeline allocates elsewhere.
-class HeapChurningSequence : public io::Sequence {
+class HeapChurningSequence : public testing::WrappedSequence {
  public:
-  explicit HeapChurningSequence(std::unique_ptr<io::Sequence> inner) : io::Sequence(inner->root()), inner_(std::move(inner)) {
-    calib_ = inner_->calibration();
-    stamps_ = inner_->timestamps();
-    ground_truth_ = inner_->ground_truth();
-  }
-  std::string format() const override { return inner_->format(); }
+  using WrappedSequence::WrappedSequence;
   io::Frame frame(size_t i) const override {
     for (size_t k = 0; k <= i % 5; ++k) kept_.emplace_back(new char[48 + 200 * ((i + 3 * k) % 9)]);
-    return inner_->frame(i);
+    return WrappedSequence::frame(i);
   }
 
  private:
-  std::unique_ptr<io::Sequence> inner_;
   mutable std::vector<std::unique_ptr<char[]>> kept_;
 };
 

@@ -20,7 +20,6 @@ const geometry::Choices<BaJacobians> kJacobianChoices = {{"analytic", BaJacobian
 const geometry::Choices<BaLinearSolver> kSolverChoices = {{"dense_schur", BaLinearSolver::kDenseSchur},
                                                           {"sparse_schur", BaLinearSolver::kSparseSchur}};
 
-
 void check_index(int index, size_t size, const char* what) {
   if (index < 0 || static_cast<size_t>(index) >= size)
     throw InternalError(std::string("SlidingWindowBA: observation names ") + what + " " + std::to_string(index) +
@@ -54,7 +53,7 @@ class BlockState {
       : problem_(p),
         line_scale_(p.focal_px * line_weight),
         points_at_(kPoseBlockSize * p.keyframes.size()),
-        lines_at_(points_at_ + 3 * p.points.size()),
+        lines_at_(points_at_ + kPointBlockSize * p.points.size()),
         storage_(lines_at_ + kLineBlockSize * p.lines.size()) {
     for (size_t i = 0; i < p.keyframes.size(); ++i) pose_to_block(p.keyframes[i].T_world_cam.inverse(), pose(i));
     for (size_t i = 0; i < p.points.size(); ++i) Eigen::Map<Eigen::Vector3d>(point(i)) = p.points[i].p_world;
@@ -65,10 +64,10 @@ class BlockState {
   }
 
   double* pose(size_t i) { return storage_.data() + kPoseBlockSize * i; }
-  double* point(size_t i) { return storage_.data() + points_at_ + 3 * i; }
+  double* point(size_t i) { return storage_.data() + points_at_ + kPointBlockSize * i; }
   double* line(size_t i) { return storage_.data() + lines_at_ + kLineBlockSize * i; }
   const double* pose(size_t i) const { return storage_.data() + kPoseBlockSize * i; }
-  const double* point(size_t i) const { return storage_.data() + points_at_ + 3 * i; }
+  const double* point(size_t i) const { return storage_.data() + points_at_ + kPointBlockSize * i; }
   const double* line(size_t i) const { return storage_.data() + lines_at_ + kLineBlockSize * i; }
 
   const Pose& extrinsic(int camera) const {
@@ -89,7 +88,6 @@ class BlockState {
     if (!LineReprojectionCost(o.line_coeffs, extrinsic(o.camera), line_scale_).Evaluate(params, r, nullptr)) return NAN;
     return std::hypot(r[0], r[1]);
   }
-
 
  private:
   const BaProblem& problem_;
