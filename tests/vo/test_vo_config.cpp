@@ -53,6 +53,9 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.mapping.projection_search.max_hamming, code.mapping.projection_search.max_hamming);
   EXPECT_DOUBLE_EQ(file.mapping.projection_search.ratio, code.mapping.projection_search.ratio);
   EXPECT_EQ(file.run.threaded, code.run.threaded);
+  EXPECT_EQ(file.run.network_threads, code.run.network_threads);
+  EXPECT_EQ(file.frontend.superpoint_conv_layout, code.frontend.superpoint_conv_layout);
+  EXPECT_EQ(file.mapping.match_untracked_only, code.mapping.match_untracked_only);
   EXPECT_EQ(file.pipeline.lines, code.pipeline.lines);
   EXPECT_EQ(file.pipeline.lines_in_mono, code.pipeline.lines_in_mono);
   EXPECT_EQ(file.pipeline.line_tracking, code.pipeline.line_tracking);
@@ -87,6 +90,26 @@ TEST(VoConfig, ProjectionSearchIsReadAndChecked) {
       FAIL() << "accepted " << bad;
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("projection_search"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {
+  const VoConfig c = VoConfig::load(write_yaml(
+      "speed", "frontend:\n  superpoint_conv_layout: nchw\nrun:\n  network_threads: 1\n"
+               "mapping:\n  match_untracked_only: false\n"));
+  EXPECT_EQ(c.frontend.superpoint_conv_layout, "nchw");
+  EXPECT_EQ(c.run.network_threads, 1);
+  EXPECT_FALSE(c.mapping.match_untracked_only);
+  const std::pair<const char*, const char*> bad[] = {
+      {"frontend:\n  superpoint_conv_layout: nhwc\n", "frontend.superpoint_conv_layout"},
+      {"run:\n  network_threads: 0\n", "run.network_threads"}};
+  for (const auto& [text, key] : bad) {
+    try {
+      VoConfig::load(write_yaml("badspeed", text));
+      FAIL() << "accepted " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
     }
   }
 }

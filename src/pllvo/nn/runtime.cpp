@@ -24,7 +24,7 @@ void set_num_threads(int n) {
   static bool warned = false;
   if (n > 1 && !warned && !std::getenv("OMP_WAIT_POLICY")) {
     warned = true;
-    spdlog::warn("nn: {} threads with OpenMP's default spin-waiting; on a shared or busy CPU set "
+    spdlog::info("nn: {} threads with OpenMP's default spin-waiting; on a shared or busy CPU set "
                  "OMP_WAIT_POLICY=PASSIVE before starting pllvo (docs/nn.md)", n);
   }
   // Looked up at run time: the library does not link OpenBLAS itself (executables do, see

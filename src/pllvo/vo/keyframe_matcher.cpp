@@ -101,6 +101,22 @@ class NeuralMatcher final : public KeyframeMatcher {
 
 }  // namespace
 
+std::vector<PointMatch> match_unflagged(KeyframeMatcher& matcher, const PointFeatures& a, const std::vector<char>& skip_a,
+                                        const PointFeatures& b, const std::vector<char>& skip_b, cv::Size image_size) {
+  if (skip_a.size() != a.size() || skip_b.size() != b.size())
+    throw InternalError("match_unflagged: one flag per feature expected");
+  auto unflagged = [](const std::vector<char>& skip) {
+    std::vector<int> rows;
+    for (size_t i = 0; i < skip.size(); ++i)
+      if (!skip[i]) rows.push_back(static_cast<int>(i));
+    return rows;
+  };
+  const std::vector<int> rows_a = unflagged(skip_a), rows_b = unflagged(skip_b);
+  std::vector<PointMatch> matches = matcher.match(a.select(rows_a), b.select(rows_b), image_size);
+  for (auto& m : matches) m.a = rows_a.at(static_cast<size_t>(m.a)), m.b = rows_b.at(static_cast<size_t>(m.b));
+  return matches;
+}
+
 std::unique_ptr<KeyframeMatcher> make_keyframe_matcher(const MappingConfig& config, const std::string& frontend) {
   if (frontend == "orb" || frontend == "shitomasi") {
     if (config.matcher == "lightglue")

@@ -35,6 +35,11 @@ class KeyframeMatcher {
   virtual std::optional<MatchEffort> last_effort() const { return std::nullopt; }
 };
 
+/// `matcher` on the rows of `a` and `b` not flagged in `skip_a` / `skip_b` (one flag per row);
+/// the matches index `a` and `b` themselves.
+std::vector<PointMatch> match_unflagged(KeyframeMatcher& matcher, const PointFeatures& a, const std::vector<char>& skip_a,
+                                        const PointFeatures& b, const std::vector<char>& skip_b, cv::Size image_size);
+
 /// Picks the matcher for the front end's descriptors and the mapping config.
 std::unique_ptr<KeyframeMatcher> make_keyframe_matcher(const MappingConfig& config, const std::string& frontend);
 

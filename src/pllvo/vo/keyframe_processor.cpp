@@ -139,6 +139,26 @@ geometry::Pose KeyframeProcessor::current_pose(const KeyframeJob& job) {
   return e.ok ? e.T_world_cam : job.T_world_cam;
 }
 
+std::vector<PointMatch> KeyframeProcessor::match_previous(const Keyframe& prev, const KeyframeJob& job,
+                                                          const PointFeatures& features, int& linked) {
+  // A feature of the new keyframe is linked when KLT carried it from the previous keyframe.
+  std::vector<char> linked_new(features.size(), 0), linked_prev(prev.features.size(), 0);
+  for (size_t i = 0; i < features.size(); ++i) {
+    const int s = features.source.empty() ? -1 : features.source[i];
+    if (s < 0) continue;
+    const Observation& last = job.tracks[static_cast<size_t>(s)].last;
+    if (last.keyframe != prev.id || last.index < 0 || last.index >= static_cast<int>(linked_prev.size())) continue;
+    linked_new[i] = linked_prev[static_cast<size_t>(last.index)] = 1;
+  }
+  linked = static_cast<int>(std::count(linked_new.begin(), linked_new.end(), 1));
+  if (!config_.mapping.match_untracked_only) {
+    // Every feature goes to the matcher; the feedback counts what it matched.
+    linked = 0;
+    return matcher_->match(prev.features, features, job.left.size());
+  }
+  return match_unflagged(*matcher_, prev.features, linked_prev, features, linked_new, job.left.size());
+}
+
 void KeyframeProcessor::reattach_by_projection(const geometry::Pose& T_world_cam, const PointFeatures& features,
                                                 std::vector<Id>& ids, std::vector<Observation>& origins,
                                                 std::vector<Observation>& previous) {
@@ -196,8 +216,11 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job) {
   if (has_prev) {
     ScopedTimer t(stats_, "kf_match");
     map_.read([&](const MapData& m) { prev = m.keyframes.at(segment_keyframes_.back()); });
-    matches = matcher_->match(prev.features, features, job.left.size());
-    result.matches = static_cast<int>(matches.size());
+    int linked = 0;
+    matches = match_previous(prev, job, features, linked);
+    // Correspondences with the previous keyframe, whether KLT or the matcher found them.
+    result.matches = linked + static_cast<int>(matches.size());
+    stats_.add_sample("kf_matcher_matches", static_cast<double>(matches.size()));
     if (const auto effort = matcher_->last_effort()) {
       stats_.add_sample("matcher_layers_run", effort->layers_run);
       stats_.add_sample("matcher_pruned_share", effort->pruned_share);

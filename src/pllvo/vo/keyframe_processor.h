@@ -52,7 +52,7 @@ struct KeyframeResult {
   std::vector<TrackedPoint> new_tracks;
   std::vector<TrackedLine> new_lines;
   size_t followed_frame = 0;
-  int matches = 0;                   ///< descriptor matches with the previous keyframe
+  int matches = 0;                   ///< features linked to the previous keyframe (KLT tracks + matcher)
   int new_points = 0;
   int created_lines = 0;
 };
@@ -90,6 +90,11 @@ class KeyframeProcessor {
   std::vector<std::optional<Eigen::Vector3d>> stereo_points(const KeyframeJob& job, const PointFeatures& features,
                                                             const std::vector<Id>& ids,
                                                             std::vector<cv::Point2f>& right_px);
+  /// Matches of the new keyframe's `features` with the previous keyframe's. With
+  /// mapping.match_untracked_only, the features KLT already links to it are left out of the
+  /// matcher and `linked` gets their count; otherwise every feature is matched and `linked` is 0.
+  std::vector<PointMatch> match_previous(const Keyframe& prev, const KeyframeJob& job, const PointFeatures& features,
+                                         int& linked);
   /// Features without a point that match a recent keyframe's point by projection get it
   /// (mapping.projection_search); they stop being candidates.
   void reattach_by_projection(const geometry::Pose& T_world_cam, const PointFeatures& features, std::vector<Id>& ids,

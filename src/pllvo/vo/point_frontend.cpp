@@ -27,6 +27,19 @@ void PointFeatures::append(const PointFeatures& other) {
     cv::vconcat(descriptors, other.descriptors, descriptors);
 }
 
+PointFeatures PointFeatures::select(const std::vector<int>& rows) const {
+  PointFeatures out;
+  out.descriptors.create(static_cast<int>(rows.size()), descriptors.cols, descriptors.type());
+  for (size_t k = 0; k < rows.size(); ++k) {
+    const int i = rows[k];
+    out.points.push_back(points.at(static_cast<size_t>(i)));
+    if (!scores.empty()) out.scores.push_back(scores.at(static_cast<size_t>(i)));
+    if (!source.empty()) out.source.push_back(source.at(static_cast<size_t>(i)));
+    descriptors.row(i).copyTo(out.descriptors.row(static_cast<int>(k)));
+  }
+  return out;
+}
+
 std::vector<size_t> select_on_grid(const std::vector<cv::Point2f>& points, const std::vector<float>& scores,
                                    cv::Size image_size, int grid_cols, int grid_rows, int max_points) {
   std::vector<size_t> order(points.size());

@@ -25,6 +25,8 @@ struct PointFeatures {
   bool binary() const { return descriptors.type() == CV_8U; }
   /// Appends `other` (same descriptor type and width, or this one empty).
   void append(const PointFeatures& other);
+  /// The features at `rows`, in that order.
+  PointFeatures select(const std::vector<int>& rows) const;
 };
 
 class PointFrontend {

@@ -19,6 +19,7 @@ nn::SuperPointConfig network_config(const FrontendConfig& c) {
   s.nms_radius = c.superpoint_nms_radius;
   s.detection_threshold = static_cast<float>(c.superpoint_threshold);
   s.downscale = 1.0 / c.superpoint_input_scale;
+  s.conv_layout = c.superpoint_conv_layout;
   s.validate();
   return s;
 }
@@ -40,10 +41,8 @@ nn::AdaptiveThresholdConfig threshold_config(const FrontendConfig& c) {
 }
 
 nn::SuperPoint load_network(const FrontendConfig& config) {
-  // The VO runs the network on the worker thread beside tracking: one intra-op thread (a
-  // second one rarely pays on two busy cores, docs/nn.md). Activations recur every keyframe:
-  // keep freed memory instead of fresh mmaps.
-  nn::set_num_threads(1);
+  // Activations recur every keyframe: keep freed memory instead of fresh mmaps. The thread
+  // count is the run's (run.network_threads, set by Odometry).
   nn::keep_freed_memory();
   nn::SuperPoint sp(network_config(config));
   spdlog::info("SuperPoint front end: weights {}, input scale {}", sp.weights_file().string(),

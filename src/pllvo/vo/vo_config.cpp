@@ -22,6 +22,7 @@ void read_frontend(const ConfigNode& n, FrontendConfig& c) {
   n.get("superpoint_adaptive_threshold", c.superpoint_adaptive_threshold);
   n.get("superpoint_nms_radius", c.superpoint_nms_radius);
   n.get("superpoint_equalize", c.superpoint_equalize);
+  n.get("superpoint_conv_layout", c.superpoint_conv_layout);
   n.get("equalize", c.equalize);
   n.reject_unknown_keys();
 }
@@ -84,6 +85,7 @@ void read_mapping(const ConfigNode& n, MappingConfig& c) {
   n.get("lightglue_depth_confidence", c.lightglue_depth_confidence);
   n.get("lightglue_width_confidence", c.lightglue_width_confidence);
   n.get("mnn_max_distance", c.mnn_max_distance);
+  n.get("match_untracked_only", c.match_untracked_only);
   n.get("orb_ratio", c.orb_ratio);
   n.get("orb_max_hamming", c.orb_max_hamming);
   n.get("max_anchor_keyframes", c.max_anchor_keyframes);
@@ -112,6 +114,7 @@ void read_pipeline(const ConfigNode& n, PipelineConfig& c) {
 void read_run(const ConfigNode& n, RunConfig& c) {
   n.get("threaded", c.threaded);
   n.get("wait_when_starving", c.wait_when_starving);
+  n.get("network_threads", c.network_threads);
   n.get("progress_interval_s", c.progress_interval_s);
   n.reject_unknown_keys();
 }
@@ -165,6 +168,10 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(f.grid_cols > 0 && f.grid_rows > 0, file, "frontend.grid_cols", "grid must be at least 1x1");
   require(f.superpoint_input_scale > 0 && f.superpoint_input_scale <= 1, file,
           "frontend.superpoint_input_scale", "must be in (0, 1]");
+  const std::string& layout = f.superpoint_conv_layout;
+  require(layout == "nchw" || layout == "channels_last" || layout == "mkldnn", file, "frontend.superpoint_conv_layout",
+          "must be nchw, channels_last or mkldnn (got '" + layout + "')");
+  require(run.network_threads >= 1 && run.network_threads <= 64, file, "run.network_threads", "must be in [1, 64]");
   require(klt.window_px >= 5 && klt.window_px % 2 == 1, file, "klt.window_px", "must be odd and >= 5");
   require(klt.levels >= 0 && klt.levels <= 6, file, "klt.levels", "must be in [0, 6]");
   require(klt.fb_threshold_px > 0, file, "klt.fb_threshold_px", "must be positive");

@@ -33,6 +33,9 @@ struct FrontendConfig {
   double superpoint_threshold = 0.005;  ///< starting detection threshold
   bool superpoint_adaptive_threshold = true;
   int superpoint_nms_radius = 4;
+  /// Convolution layout (nn::SuperPointConfig::conv_layout): nchw (the official numerics) |
+  /// channels_last | mkldnn (oneDNN: detection 1.2x faster on an AVX2 host, docs/vo.md session 11).
+  std::string superpoint_conv_layout = "mkldnn";
   /// CLAHE before the network. Off: on dark frames the stretched sensor noise becomes
   /// SuperPoint keypoints (medium_lowlight: ATE 11.5 % of the path with it, 2.6 % without;
   /// docs/vo.md). The classical detectors use `equalize`.
@@ -161,6 +164,10 @@ struct MappingConfig {
   double lightglue_depth_confidence = 0.95;
   double lightglue_width_confidence = 0.99;
   double mnn_max_distance = 0.7;  ///< float descriptors (unit norm): L2 distance (hloc's 0.7)
+  /// Keyframe matching leaves out what KLT already connects: the new keyframe's tracked
+  /// features and the previous keyframe's features they were tracked from. Their matches were
+  /// discarded anyway, and LightGlue's cost grows with both sets.
+  bool match_untracked_only = true;
   double orb_ratio = 0.8;         ///< binary descriptors: Lowe ratio test
   int orb_max_hamming = 64;
   /// Older keyframes (outside the window) that see the window's points join the BA, fixed,
@@ -217,6 +224,10 @@ struct RunConfig {
   /// quality) asks for a keyframe while the worker's queue is full. Off: tracking never waits.
   bool wait_when_starving = true;
   double progress_interval_s = 2.0;  ///< wall time between progress lines (0: none)
+  /// LibTorch + OpenBLAS threads for the networks on the keyframe worker (threaded runs; a
+  /// single-thread run uses 1). Two: tracking costs ~15 ms a frame, so while the worker runs
+  /// a keyframe the second core is mostly idle (docs/vo.md, session 11).
+  int network_threads = 2;
 };
 
 struct VoConfig {
