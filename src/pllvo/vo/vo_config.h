@@ -165,9 +165,10 @@ struct MappingConfig {
   double lightglue_width_confidence = 0.99;
   double mnn_max_distance = 0.7;  ///< float descriptors (unit norm): L2 distance (hloc's 0.7)
   /// Keyframe matching leaves out what KLT already connects: the new keyframe's tracked
-  /// features and the previous keyframe's features they were tracked from. Their matches were
-  /// discarded anyway, and LightGlue's cost grows with both sets.
-  bool match_untracked_only = true;
+  /// features and the previous keyframe's features they were tracked from (their matches are
+  /// discarded anyway). Off: it saved ~15 % of LightGlue's time but the context those features
+  /// give LightGlue mattered on ECD (Sim3 ATE 2.60 -> 9.26 %; docs/vo.md, session 11).
+  bool match_untracked_only = false;
   double orb_ratio = 0.8;         ///< binary descriptors: Lowe ratio test
   int orb_max_hamming = 64;
   /// Older keyframes (outside the window) that see the window's points join the BA, fixed,
