@@ -141,6 +141,8 @@ geometry::Pose KeyframeProcessor::current_pose(const KeyframeJob& job) {
 
 std::vector<PointMatch> KeyframeProcessor::match_previous(const Keyframe& prev, const KeyframeJob& job,
                                                           const PointFeatures& features, int& linked) {
+  linked = 0;
+  if (!config_.mapping.match_untracked_only) return matcher_->match(prev.features, features, job.left.size());
   // A feature of the new keyframe is linked when KLT carried it from the previous keyframe.
   std::vector<char> linked_new(features.size(), 0), linked_prev(prev.features.size(), 0);
   for (size_t i = 0; i < features.size(); ++i) {
@@ -151,11 +153,6 @@ std::vector<PointMatch> KeyframeProcessor::match_previous(const Keyframe& prev, 
     linked_new[i] = linked_prev[static_cast<size_t>(last.index)] = 1;
   }
   linked = static_cast<int>(std::count(linked_new.begin(), linked_new.end(), 1));
-  if (!config_.mapping.match_untracked_only) {
-    // Every feature goes to the matcher; the feedback counts what it matched.
-    linked = 0;
-    return matcher_->match(prev.features, features, job.left.size());
-  }
   return match_unflagged(*matcher_, prev.features, linked_prev, features, linked_new, job.left.size());
 }
 

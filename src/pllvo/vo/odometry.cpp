@@ -81,7 +81,8 @@ Odometry::Odometry(const VoConfig& config, const io::Calibration& calibration, b
       processor_(config_, camera_, rectifier_.baseline(), map_, stats),
       worker_(config.run.threaded) {
   // The networks run on the keyframe worker beside tracking; a single-thread run stays on one.
-  nn::set_num_threads(config_.run.threaded ? config_.run.network_threads : 1);
+  if (processor_.frontend_name() == "superpoint")
+    nn::set_num_threads(config_.run.threaded ? config_.run.network_threads : 1);
   T_work_cam0_ = rectifier_.T_cam0_work().inverse();
   // The world frame is cam0 of the first initialised frame.
   T_world_work_ = rectifier_.T_cam0_work();
