@@ -93,11 +93,25 @@ TEST(KeyframePolicy, TimeTriggerHasAMaximumAndAnIdleMinimum) {
 TEST(KeyframePolicy, LineTriggerFiresWhenTheOverlapAngleSetMovesAway) {
   KeyframePolicy policy(defaults());
   policy.start_keyframe(10.0, 300);
-  EXPECT_EQ(policy.decide(frame(10.1, 300, false, 2.0)), KeyframeReason::kNone);
-  EXPECT_EQ(policy.decide(frame(10.1, 300, false, 8.0)), KeyframeReason::kNone);
-  EXPECT_EQ(policy.decide(frame(10.1, 300, false, 8.5)), KeyframeReason::kLineAngles);
+  EXPECT_EQ(policy.decide(frame(10.1, 300, true, 2.0)), KeyframeReason::kNone);
+  EXPECT_EQ(policy.decide(frame(10.1, 300, true, 8.0)), KeyframeReason::kNone);
+  EXPECT_EQ(policy.decide(frame(10.1, 300, true, 8.5)), KeyframeReason::kLineAngles);
   // No distance (lines off, or too few angles): the rule cannot fire.
-  EXPECT_EQ(policy.decide(frame(10.1, 300, false, std::nullopt)), KeyframeReason::kNone);
+  EXPECT_EQ(policy.decide(frame(10.1, 300, true, std::nullopt)), KeyframeReason::kNone);
+}
+
+TEST(KeyframePolicy, LineTriggerWaitsForAnIdleBackEndUnlessToldNotTo) {
+  auto c = defaults();
+  KeyframePolicy waits(c);
+  waits.start_keyframe(10.0, 300);
+  EXPECT_EQ(waits.decide(frame(10.1, 300, false, 8.5)), KeyframeReason::kNone);
+  EXPECT_EQ(waits.decide(frame(10.1, 300, true, 8.5)), KeyframeReason::kLineAngles);
+  // The rules that protect tracking do not wait.
+  EXPECT_EQ(waits.decide(frame(10.1, 59, false, 8.5)), KeyframeReason::kFewPoints);
+  c.line_trigger_when_idle = false;
+  KeyframePolicy always(c);
+  always.start_keyframe(10.0, 300);
+  EXPECT_EQ(always.decide(frame(10.1, 300, false, 8.5)), KeyframeReason::kLineAngles);
 }
 
 TEST(KeyframePolicy, EachTriggerCanBeSwitchedOff) {

@@ -28,6 +28,7 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_DOUBLE_EQ(file.keyframes.min_interval_s, code.keyframes.min_interval_s);
   EXPECT_DOUBLE_EQ(file.keyframes.line_angle_distance_deg, code.keyframes.line_angle_distance_deg);
   EXPECT_EQ(file.keyframes.line_min_angles, code.keyframes.line_min_angles);
+  EXPECT_EQ(file.keyframes.line_trigger_when_idle, code.keyframes.line_trigger_when_idle);
   EXPECT_DOUBLE_EQ(file.keyframes.mono_min_candidate_parallax_deg, code.keyframes.mono_min_candidate_parallax_deg);
   EXPECT_EQ(file.keyframes.mono_min_tracked_points, code.keyframes.mono_min_tracked_points);
   EXPECT_DOUBLE_EQ(file.klt.min_ncc, code.klt.min_ncc);

@@ -53,7 +53,7 @@ KeyframeReason KeyframePolicy::decide(const FrameTrackingState& frame) const {
         frame.tracked_points < c.min_tracked_ratio * static_cast<double>(reference_points_))
       return KeyframeReason::kTrackingQuality;
   }
-  if (c.use_line_trigger && frame.line_angle_distance_deg &&
+  if (c.use_line_trigger && (frame.backend_idle || !c.line_trigger_when_idle) && frame.line_angle_distance_deg &&
       *frame.line_angle_distance_deg > c.line_angle_distance_deg)
     return KeyframeReason::kLineAngles;
   const double elapsed = frame.timestamp - reference_time_;

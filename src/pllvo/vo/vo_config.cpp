@@ -57,6 +57,7 @@ void read_keyframes(const ConfigNode& n, KeyframePolicyConfig& c) {
   n.get("min_interval_s", c.min_interval_s);
   n.get("use_line_trigger", c.use_line_trigger);
   n.get("line_angle_distance_deg", c.line_angle_distance_deg);
+  n.get("line_trigger_when_idle", c.line_trigger_when_idle);
   n.get("line_min_angles", c.line_min_angles);
   n.reject_unknown_keys();
 }
