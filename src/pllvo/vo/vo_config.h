@@ -230,9 +230,11 @@ struct RunConfig {
   bool wait_when_starving = true;
   double progress_interval_s = 2.0;  ///< wall time between progress lines (0: none)
   /// LibTorch + OpenBLAS threads for the networks on the keyframe worker (threaded runs; a
-  /// single-thread run uses 1). Two: tracking costs ~15 ms a frame, so while the worker runs
-  /// a keyframe the second core is mostly idle (docs/vo.md, session 11).
-  int network_threads = 2;
+  /// single-thread run uses 1). Two made a quiet machine's run ~1.3x faster, but beside two
+  /// busy processes OpenMP's spin-waiting made LightGlue 6.7x slower (2291 against 341 ms per
+  /// keyframe) and the run 2.2x slower; libgomp's wait policy cannot be set from inside the
+  /// process (docs/vo.md, session 11). So one, unless the machine is yours alone.
+  int network_threads = 1;
 };
 
 struct VoConfig {
