@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "pllvo/nn/superpoint.h"
+
 namespace pllvo::vo {
 namespace {
 
@@ -169,9 +171,11 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(f.grid_cols > 0 && f.grid_rows > 0, file, "frontend.grid_cols", "grid must be at least 1x1");
   require(f.superpoint_input_scale > 0 && f.superpoint_input_scale <= 1, file,
           "frontend.superpoint_input_scale", "must be in (0, 1]");
-  const std::string& layout = f.superpoint_conv_layout;
-  require(layout == "nchw" || layout == "channels_last" || layout == "mkldnn", file, "frontend.superpoint_conv_layout",
-          "must be nchw, channels_last or mkldnn (got '" + layout + "')");
+  nn::SuperPointConfig network;  // the network's own rule for the layouts it has
+  network.conv_layout = f.superpoint_conv_layout;
+  const auto [network_key, problem] = network.problem();
+  require(network_key != "conv_layout", file, "frontend.superpoint_conv_layout",
+          problem + " (got '" + f.superpoint_conv_layout + "')");
   require(run.network_threads >= 1 && run.network_threads <= 64, file, "run.network_threads", "must be in [1, 64]");
   require(klt.window_px >= 5 && klt.window_px % 2 == 1, file, "klt.window_px", "must be odd and >= 5");
   require(klt.levels >= 0 && klt.levels <= 6, file, "klt.levels", "must be in [0, 6]");
