@@ -51,4 +51,31 @@ TEST(StereoRectifier, EurocPairGivesHorizontalEpipolarLines) {
   EXPECT_NEAR(c1_in_r0.x(), rect.baseline(), 1e-9);
   EXPECT_NEAR(c1_in_r0.y(), 0.0, 1e-9);
   EXPECT_NEAR(c1_in_r0.z(), 0.0, 1e-9);
+  // A distorted, rotated pair: its images are resampled.
+  EXPECT_FALSE(rect.is_identity(0));
+  EXPECT_FALSE(rect.is_identity(1));
+  const cv::Mat image(480, 752, CV_8UC1, cv::Scalar(90));
+  EXPECT_NE(rect.rectify(0, image).data, image.data);
+}
+
+// An already rectified pair (equal pinhole cameras, baseline along x: a synthetic rig, KITTI)
+// maps every pixel onto itself, so its images pass through unchanged and uncopied.
+TEST(StereoRectifier, AnAlreadyRectifiedPairPassesImagesThrough) {
+  const PinholeIntrinsics k{460.0, 460.0, 376.0, 240.0};
+  auto cam0 = std::make_shared<PinholeRadtan>(752, 480, k, std::vector<double>{0, 0, 0, 0});
+  auto cam1 = std::make_shared<PinholeRadtan>(752, 480, k, std::vector<double>{0, 0, 0, 0});
+  Eigen::Isometry3d T_b_c1 = Eigen::Isometry3d::Identity();
+  T_b_c1.translation() = Eigen::Vector3d(0.11, 0, 0);
+  const StereoRectifier rect(cam0, cam1, Eigen::Isometry3d::Identity(), T_b_c1);
+  ASSERT_TRUE(rect.is_identity(0));
+  ASSERT_TRUE(rect.is_identity(1));
+  EXPECT_NEAR(rect.baseline(), 0.11, 1e-12);
+  cv::Mat image(480, 752, CV_8UC1);
+  cv::randu(image, 0, 255);
+  EXPECT_EQ(rect.rectify(0, image).data, image.data);
+  EXPECT_EQ(rect.rectify(1, image).data, image.data);
+  // A small rotation of the right camera makes rectification resample again.
+  T_b_c1.linear() = Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const StereoRectifier rotated(cam0, cam1, Eigen::Isometry3d::Identity(), T_b_c1);
+  EXPECT_FALSE(rotated.is_identity(1));
 }

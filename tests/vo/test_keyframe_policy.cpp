@@ -114,6 +114,28 @@ TEST(KeyframePolicy, LineTriggerWaitsForAnIdleBackEndUnlessToldNotTo) {
   EXPECT_EQ(always.decide(frame(10.1, 300, false, 8.5)), KeyframeReason::kLineAngles);
 }
 
+TEST(KeyframePolicy, PointTriggerAwaitsTheKeyframeInFlightUnlessToldNotTo) {
+  auto c = defaults();
+  KeyframePolicy awaits(c);
+  awaits.start_keyframe(10.0, 300);
+  FrameTrackingState starving = frame(10.1, 40);
+  EXPECT_EQ(awaits.decide(starving), KeyframeReason::kFewPoints);
+  starving.keyframe_in_flight = true;
+  EXPECT_EQ(awaits.decide(starving), KeyframeReason::kNone);
+  FrameTrackingState degraded = frame(10.1, 100);  // under half the keyframe's 300
+  degraded.keyframe_in_flight = true;
+  EXPECT_EQ(awaits.decide(degraded), KeyframeReason::kNone);
+  // The time rule still applies.
+  FrameTrackingState late = frame(11.5, 40);
+  late.keyframe_in_flight = true;
+  EXPECT_EQ(awaits.decide(late), KeyframeReason::kMaxInterval);
+  c.point_trigger_while_in_flight = true;
+  KeyframePolicy always(c);
+  always.start_keyframe(10.0, 300);
+  EXPECT_EQ(always.decide(starving), KeyframeReason::kFewPoints);
+  EXPECT_EQ(always.decide(degraded), KeyframeReason::kTrackingQuality);
+}
+
 TEST(KeyframePolicy, EachTriggerCanBeSwitchedOff) {
   auto c = defaults();
   c.use_point_trigger = false;

@@ -162,3 +162,27 @@ TEST_F(PipelineSwitches, FrontEnds) {
 
 }  // namespace
 }  // namespace pllvo::vo
+
+namespace pllvo::vo {
+namespace {
+
+// The threaded pipeline (not deterministic, so no exact numbers): with the keyframe work on
+// one thread or split in two stages (detection beside the previous keyframe's mapping), every
+// frame is tracked and the trajectory holds; keyframes are made and their times recorded.
+TEST_F(PipelineSwitches, ThreadedRunsWithOneOrTwoKeyframeStagesTrack) {
+  for (int stages : {1, 2}) {
+    VoConfig c = base();
+    c.run.threaded = true;
+    c.run.keyframe_stages = stages;
+    const auto j = run(c);
+    EXPECT_TRUE(j["threaded"].get<bool>());
+    EXPECT_GT(j["keyframes"].get<int>(), 2) << "stages " << stages;
+    ASSERT_TRUE(j.contains("trajectory_error"));
+    EXPECT_LT(j["trajectory_error"]["ate_percent_of_path"].get<double>(), 2.0) << "stages " << stages;
+    // The keyframe total counts both parts: detection and the rest.
+    EXPECT_GE(j["timing_ms"]["kf_total"]["mean"].get<double>(), j["timing_ms"]["kf_detect"]["mean"].get<double>());
+  }
+}
+
+}  // namespace
+}  // namespace pllvo::vo

@@ -29,6 +29,7 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_DOUBLE_EQ(file.keyframes.line_angle_distance_deg, code.keyframes.line_angle_distance_deg);
   EXPECT_EQ(file.keyframes.line_min_angles, code.keyframes.line_min_angles);
   EXPECT_EQ(file.keyframes.line_trigger_when_idle, code.keyframes.line_trigger_when_idle);
+  EXPECT_EQ(file.keyframes.point_trigger_while_in_flight, code.keyframes.point_trigger_while_in_flight);
   EXPECT_DOUBLE_EQ(file.keyframes.mono_min_candidate_parallax_deg, code.keyframes.mono_min_candidate_parallax_deg);
   EXPECT_EQ(file.keyframes.mono_min_tracked_points, code.keyframes.mono_min_tracked_points);
   EXPECT_DOUBLE_EQ(file.klt.min_ncc, code.klt.min_ncc);
@@ -55,6 +56,9 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_DOUBLE_EQ(file.mapping.projection_search.ratio, code.mapping.projection_search.ratio);
   EXPECT_EQ(file.run.threaded, code.run.threaded);
   EXPECT_EQ(file.run.network_threads, code.run.network_threads);
+  EXPECT_EQ(file.run.keyframe_stages, code.run.keyframe_stages);
+  EXPECT_EQ(file.run.starving_points, code.run.starving_points);
+  EXPECT_EQ(file.run.wait_when_starving, code.run.wait_when_starving);
   EXPECT_EQ(file.frontend.superpoint_conv_layout, code.frontend.superpoint_conv_layout);
   EXPECT_EQ(file.mapping.match_untracked_only, code.mapping.match_untracked_only);
   EXPECT_EQ(file.pipeline.lines, code.pipeline.lines);
@@ -97,14 +101,18 @@ TEST(VoConfig, ProjectionSearchIsReadAndChecked) {
 
 TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {
   const VoConfig c = VoConfig::load(write_yaml(
-      "speed", "frontend:\n  superpoint_conv_layout: nchw\nrun:\n  network_threads: 1\n"
+      "speed", "frontend:\n  superpoint_conv_layout: nchw\nrun:\n  network_threads: 1\n  keyframe_stages: 1\n  starving_points: 25\n"
                "mapping:\n  match_untracked_only: false\n"));
   EXPECT_EQ(c.frontend.superpoint_conv_layout, "nchw");
   EXPECT_EQ(c.run.network_threads, 1);
+  EXPECT_EQ(c.run.keyframe_stages, 1);
+  EXPECT_EQ(c.run.starving_points, 25);
   EXPECT_FALSE(c.mapping.match_untracked_only);
   const std::pair<const char*, const char*> bad[] = {
       {"frontend:\n  superpoint_conv_layout: nhwc\n", "frontend.superpoint_conv_layout"},
-      {"run:\n  network_threads: 0\n", "run.network_threads"}};
+      {"run:\n  network_threads: 0\n", "run.network_threads"},
+      {"run:\n  keyframe_stages: 3\n", "run.keyframe_stages"},
+      {"run:\n  starving_points: -1\n", "run.starving_points"}};
   for (const auto& [text, key] : bad) {
     try {
       VoConfig::load(write_yaml("badspeed", text));

@@ -1,5 +1,7 @@
 #include "pllvo/camera/stereo_rectifier.h"
 
+#include <cmath>
+
 #include <Eigen/Core>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -14,6 +16,19 @@ cv::Mat camera_matrix(const CameraModel& c) {
   cv::Mat K;
   cv::eigen2cv(c.intrinsics().K(), K);
   return K;
+}
+
+/// Every pixel maps onto itself: remap samples at 1/32 px, so offsets this small change no pixel.
+bool is_identity_map(const cv::Mat& map_x, const cv::Mat& map_y) {
+  constexpr float kTolerancePx = 1e-3f;
+  for (int v = 0; v < map_x.rows; ++v) {
+    const float* x = map_x.ptr<float>(v);
+    const float* y = map_y.ptr<float>(v);
+    for (int u = 0; u < map_x.cols; ++u)
+      if (std::abs(x[u] - static_cast<float>(u)) > kTolerancePx || std::abs(y[u] - static_cast<float>(v)) > kTolerancePx)
+        return false;
+  }
+  return true;
 }
 }  // namespace
 
@@ -42,8 +57,10 @@ StereoRectifier::StereoRectifier(CameraPtr cam0, CameraPtr cam1,
   rect_.cx = P0.at<double>(0, 2);
   rect_.cy = P0.at<double>(1, 2);
   baseline_ = std::abs(P1.at<double>(0, 3) / P1.at<double>(0, 0));
-  for (int i = 0; i < 2; ++i)
+  for (int i = 0; i < 2; ++i) {
     cams_[i]->undistort_rectify_map(rect_, size_, R_[i], map_x_[i], map_y_[i]);
+    identity_[i] = is_identity_map(map_x_[i], map_y_[i]);
+  }
 }
 
 Eigen::Isometry3d StereoRectifier::T_rect0_rect1() const {
@@ -55,6 +72,7 @@ Eigen::Isometry3d StereoRectifier::T_rect0_rect1() const {
 cv::Mat StereoRectifier::rectify(int i, const cv::Mat& image) const {
   if (i < 0 || i > 1) throw InternalError("stereo camera index must be 0 or 1");
   if (image.size() != size_) throw InputError("stereo: image size does not match the calibration");
+  if (identity_[i]) return image;  // already rectified (a synthetic pair, KITTI): ~3 ms a frame saved
   cv::Mat out;
   cv::remap(image, out, map_x_[i], map_y_[i], cv::INTER_LINEAR, cv::BORDER_CONSTANT);
   return out;

@@ -23,8 +23,11 @@ class StereoRectifier {
   /// Pose of rectified camera 1 in rectified camera 0: a translation (baseline, 0, 0).
   Eigen::Isometry3d T_rect0_rect1() const;
 
-  /// Rectifies one image of camera `i` (0 = left).
+  /// Rectifies one image of camera `i` (0 = left). An image that rectification leaves as it
+  /// is (already rectified pair) comes back shared, not copied.
   cv::Mat rectify(int i, const cv::Mat& image) const;
+  /// Rectification leaves camera `i`'s images as they are.
+  bool is_identity(int i) const { return identity_[i]; }
   cv::Size size() const { return size_; }
 
  private:
@@ -34,6 +37,7 @@ class StereoRectifier {
   double baseline_ = 0;
   cv::Size size_;
   cv::Mat map_x_[2], map_y_[2];
+  bool identity_[2] = {false, false};
 };
 
 }  // namespace pllvo::camera

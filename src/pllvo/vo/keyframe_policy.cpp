@@ -47,7 +47,10 @@ KeyframeReason KeyframePolicy::decide(const FrameTrackingState& frame) const {
   if (!has_reference_) return KeyframeReason::kInitialization;
   const auto& c = config_;
   // Order: the rules that protect tracking first, the periodic ones last.
-  if (c.use_point_trigger && !waiting_for_parallax(frame)) {
+  // A keyframe in flight brings new points when its result arrives; another one now would see
+  // the same points a frame or two later and only lengthen the queue.
+  const bool point_rule_may_fire = !frame.keyframe_in_flight || c.point_trigger_while_in_flight;
+  if (c.use_point_trigger && point_rule_may_fire && !waiting_for_parallax(frame)) {
     if (frame.tracked_points < c.min_tracked_points) return KeyframeReason::kFewPoints;
     if (reference_points_ > 0 &&
         frame.tracked_points < c.min_tracked_ratio * static_cast<double>(reference_points_))

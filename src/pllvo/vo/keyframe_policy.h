@@ -30,6 +30,8 @@ struct FrameTrackingState {
   double timestamp = 0;
   int tracked_points = 0;    ///< points tracked into this frame and kept by the pose solver
   bool backend_idle = true;  ///< the keyframe worker has nothing queued or running
+  /// A keyframe was made whose result has not reached the tracker yet.
+  bool keyframe_in_flight = false;
   /// Distance in degrees between the frame's set of line overlap angles and the keyframe's
   /// (lines::overlap_angle_distance, paper eq. 9); nullopt when lines are not used or the
   /// sets hold too few angles to describe the view.

@@ -177,20 +177,24 @@ void KeyframeProcessor::reattach_by_projection(const geometry::Pose& T_world_cam
   stats_.add_sample("kf_reattached_points", reattached);
 }
 
-KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job) {
-  ScopedTimer total(stats_, "kf_total");
+DetectedKeyframe KeyframeProcessor::detect_keyframe(const KeyframeJob& job) {
+  ScopedTimer t(stats_, "kf_detect");
+  std::vector<cv::Point2f> tracked;
+  tracked.reserve(job.tracks.size());
+  for (const auto& tp : job.tracks) tracked.push_back(tp.px);
+  DetectedKeyframe detected;
+  detected.features = frontend_->detect(job.left, tracked);
+  detected.detect_ms = t.elapsed_ms();
+  return detected;
+}
+
+KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, DetectedKeyframe detected) {
+  ScopedTimer total(stats_, "kf_total", detected.detect_ms);
+  PointFeatures features = std::move(detected.features);
   KeyframeJob job = original_job;
   job.T_world_cam = current_pose(original_job);
   KeyframeResult result;
   result.frame_index = job.frame_index;
-  PointFeatures features;
-  {
-    ScopedTimer t(stats_, "kf_detect");
-    std::vector<cv::Point2f> tracked;
-    tracked.reserve(job.tracks.size());
-    for (const auto& tp : job.tracks) tracked.push_back(tp.px);
-    features = frontend_->detect(job.left, tracked);
-  }
   const size_t n = features.size();
   std::vector<Id> ids(n, kNoId);
   std::vector<Observation> origins(n);   // first keyframe observation (kNoId: this keyframe)

@@ -57,13 +57,24 @@ struct KeyframeResult {
   int created_lines = 0;
 };
 
+struct DetectedKeyframe {
+  PointFeatures features;
+  double detect_ms = 0;  ///< counted in the keyframe's total time (kf_total)
+};
+
 class KeyframeProcessor {
  public:
   KeyframeProcessor(const VoConfig& config, const Pinhole& camera, double baseline, Map& map, RunStats& stats);
 
   /// Runs on the worker (or inline in single-thread mode). A first keyframe that yields
   /// too few 3-D points is not added (result.ok false).
-  KeyframeResult process(const KeyframeJob& job);
+  KeyframeResult process(const KeyframeJob& job) { return process(job, detect_keyframe(job)); }
+  /// The first part of process(): the keyframe's point features (its tracked points described
+  /// where they are, then new detections). It reads nothing of the map, so it may run on a
+  /// thread of its own while the previous keyframe's second part runs.
+  DetectedKeyframe detect_keyframe(const KeyframeJob& job);
+  /// The second part: everything after detection, given detect_keyframe(job).
+  KeyframeResult process(const KeyframeJob& job, DetectedKeyframe detected);
 
   /// Monocular initialisation: adds the reference keyframe (already detected features,
   /// a triangulated point or nullopt per feature) and then processes `second` as a keyframe;

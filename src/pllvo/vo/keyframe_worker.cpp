@@ -1,51 +1,65 @@
 #include "pllvo/vo/keyframe_worker.h"
 
+#include "pllvo/common/error.h"
+
 namespace pllvo::vo {
 
-KeyframeWorker::KeyframeWorker(bool threaded) : threaded_(threaded) {
-  if (threaded_) thread_ = std::thread([this] { loop(); });
+KeyframeWorker::KeyframeWorker(bool threaded, int stages) : threaded_(threaded), stages_(stages) {
+  if (stages_ != 1 && stages_ != 2) throw InternalError("keyframe worker: stages must be 1 or 2");
+  if (!threaded_) return;
+  for (int s = 0; s < stages_; ++s) threads_.emplace_back([this, s] { loop(static_cast<size_t>(s)); });
 }
 
 KeyframeWorker::~KeyframeWorker() {
   if (!threaded_) return;
+  wait_idle();
   {
     std::lock_guard<std::mutex> lock(mutex_);
     stop_ = true;
   }
-  wake_.notify_all();
-  thread_.join();
+  for (auto& w : wake_) w.notify_all();
+  for (auto& t : threads_) t.join();
 }
 
-void KeyframeWorker::submit(Job job) {
+bool KeyframeWorker::run_part(const Job& part) {
+  if (!part) return true;
+  try {
+    part();
+    return true;
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!failure_) failure_ = std::current_exception();
+    return false;
+  }
+}
+
+void KeyframeWorker::submit(Job first, Job second) {
   if (!threaded_) {
-    try {
-      job();
-    } catch (...) {
-      if (!failure_) failure_ = std::current_exception();
-    }
+    if (run_part(first)) run_part(second);
     return;
   }
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    queue_.push_back(std::move(job));
+    queues_[0].push_back({std::move(first), std::move(second)});
+    ++in_flight_;
   }
-  wake_.notify_one();
+  wake_[0].notify_one();
 }
 
 bool KeyframeWorker::idle() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return queue_.empty() && !running_job_;
+  return in_flight_ == 0;
 }
 
 size_t KeyframeWorker::pending() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return queue_.size() + (running_job_ ? 1 : 0);
+  return in_flight_;
 }
 
 void KeyframeWorker::wait_idle() {
   if (!threaded_) return;
   std::unique_lock<std::mutex> lock(mutex_);
-  done_.wait(lock, [this] { return queue_.empty() && !running_job_; });
+  done_.wait(lock, [this] { return in_flight_ == 0; });
 }
 
 void KeyframeWorker::rethrow_if_failed() {
@@ -58,28 +72,39 @@ void KeyframeWorker::rethrow_if_failed() {
   if (failure) std::rethrow_exception(failure);
 }
 
-void KeyframeWorker::loop() {
+void KeyframeWorker::finish_job() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    --in_flight_;
+  }
+  done_.notify_all();
+}
+
+void KeyframeWorker::loop(size_t stage) {
+  const bool last = static_cast<int>(stage) + 1 == stages_;
   for (;;) {
-    Job job;
+    Parts parts;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [this] { return stop_ || !queue_.empty(); });
-      if (queue_.empty()) return;  // stop requested and nothing left
-      job = std::move(queue_.front());
-      queue_.pop_front();
-      running_job_ = true;
+      wake_[stage].wait(lock, [&] { return stop_ || !queues_[stage].empty(); });
+      if (queues_[stage].empty()) return;  // stop requested and nothing left
+      parts = std::move(queues_[stage].front());
+      queues_[stage].pop_front();
     }
-    try {
-      job();
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (!failure_) failure_ = std::current_exception();
+    if (stage == 0 && !run_part(parts.first)) {
+      finish_job();
+      continue;
     }
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      running_job_ = false;
+    if (!last) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        queues_[stage + 1].push_back({Job{}, std::move(parts.second)});
+      }
+      wake_[stage + 1].notify_one();
+      continue;
     }
-    done_.notify_all();
+    run_part(parts.second);
+    finish_job();
   }
 }
 

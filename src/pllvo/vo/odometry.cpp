@@ -79,7 +79,7 @@ Odometry::Odometry(const VoConfig& config, const io::Calibration& calibration, b
       line_detector_(config_.lines.detector),
       policy_(config_.keyframes),
       processor_(config_, camera_, rectifier_.baseline(), map_, stats),
-      worker_(config.run.threaded) {
+      worker_(config.run.threaded, config.run.keyframe_stages) {
   // The networks run on the keyframe worker beside tracking; a single-thread run stays on one.
   if (processor_.frontend_name() == "superpoint")
     nn::set_num_threads(config_.run.threaded ? config_.run.network_threads : 1);
@@ -147,7 +147,7 @@ FrameRecord Odometry::process(const io::Frame& frame) {
                          : tracker_.build_pyramid(left);
   }
   if (config_.run.wait_when_starving && state_ == TrackingState::kTracking && !worker_.idle() &&
-      count_mapped(tracks_) < config_.keyframes.min_tracked_points) {
+      count_mapped(tracks_) < config_.run.starving_points) {
     ScopedTimer t(stats_, "starved_wait");
     worker_.wait_idle();
     stats_.add_count("starved_waits");
@@ -549,6 +549,7 @@ void Odometry::maybe_make_keyframe(const io::Frame& frame, const cv::Mat& left, 
   state.timestamp = frame.timestamp;
   state.tracked_points = tracked_points;
   state.backend_idle = worker_.idle();
+  state.keyframe_in_flight = !pending_keyframe_frames_.empty();
   state.line_angle_distance_deg = line_angle_distance();
   state.candidate_parallax_deg = candidate_parallax_deg();
   const KeyframeReason reason = policy_.decide(state);
@@ -575,15 +576,19 @@ void Odometry::maybe_make_keyframe(const io::Frame& frame, const cv::Mat& left, 
 
 void Odometry::submit_keyframe(KeyframeJob job) {
   pending_keyframe_frames_.insert(job.frame_index);
-  worker_.submit([this, job = std::move(job)] {
-    KeyframeResult result = processor_.process(job);
-    if (result.ok) {
-      ScopedTimer t(stats_, "kf_catch_up");
-      prepare_result(job, result);
-    }
-    std::lock_guard<std::mutex> lock(results_mutex_);
-    results_.push_back(std::move(result));
-  });
+  // Two parts (KeyframeWorker): detection, then the rest with what it found.
+  auto shared_job = std::make_shared<const KeyframeJob>(std::move(job));
+  auto detected = std::make_shared<DetectedKeyframe>();
+  worker_.submit([this, shared_job, detected] { *detected = processor_.detect_keyframe(*shared_job); },
+                 [this, shared_job, detected] {
+                   KeyframeResult result = processor_.process(*shared_job, std::move(*detected));
+                   if (result.ok) {
+                     ScopedTimer t(stats_, "kf_catch_up");
+                     prepare_result(*shared_job, result);
+                   }
+                   std::lock_guard<std::mutex> lock(results_mutex_);
+                   results_.push_back(std::move(result));
+                 });
 }
 
 namespace {
@@ -739,7 +744,10 @@ void Odometry::apply_keyframe_results() {
     policy_.set_reference_points(count_mapped(tracks_));
     if (use_lines_) {
       line_tracks_ = std::move(merged_lines);
-      set_reference_lines(result.lines);
+      // The lines the tracker follows from now on, not the keyframe's own list (which holds
+      // lines the tracker lost meanwhile and lacks map lines it keeps): against the latter the
+      // overlap-angle trigger fired on the very next frame.
+      set_reference_lines(line_tracks_);
     }
   }
   if (pending_keyframe_frames_.empty())

@@ -38,12 +38,13 @@ class RunStats {
   std::map<std::string, std::vector<double>> samples_;
 };
 
-/// Adds the elapsed wall time to `stats` under `module` when it goes out of scope.
+/// Adds the elapsed wall time (plus `earlier_ms`, time spent on the same work elsewhere) to
+/// `stats` under `module` when it goes out of scope.
 class ScopedTimer {
  public:
-  ScopedTimer(RunStats& stats, std::string module)
-      : stats_(stats), module_(std::move(module)), start_(std::chrono::steady_clock::now()) {}
-  ~ScopedTimer() { stats_.add_time(module_, elapsed_ms()); }
+  ScopedTimer(RunStats& stats, std::string module, double earlier_ms = 0.0)
+      : stats_(stats), module_(std::move(module)), earlier_ms_(earlier_ms), start_(std::chrono::steady_clock::now()) {}
+  ~ScopedTimer() { stats_.add_time(module_, earlier_ms_ + elapsed_ms()); }
   double elapsed_ms() const {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
   }
@@ -51,6 +52,7 @@ class ScopedTimer {
  private:
   RunStats& stats_;
   std::string module_;
+  double earlier_ms_;
   std::chrono::steady_clock::time_point start_;
 };
 

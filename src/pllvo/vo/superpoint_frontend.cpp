@@ -73,6 +73,7 @@ PointFeatures SuperPointFrontend::detect(const cv::Mat& raw, const std::vector<c
   const nn::KeypointCandidates candidates =
       nn::find_candidates(dense.scores, superpoint_.config().nms_radius, superpoint_.config().remove_borders);
   std::vector<std::int32_t> selected;
+  std::unique_lock<std::mutex> lock(threshold_mutex_);  // report_matches may run on the other keyframe stage
   if (config_.superpoint_adaptive_threshold) {
     selected = threshold_.select(candidates, &decision_);
   } else {
@@ -81,6 +82,7 @@ PointFeatures SuperPointFrontend::detect(const cv::Mat& raw, const std::vector<c
     decision_.threshold = static_cast<float>(config_.superpoint_threshold);
     decision_.selected = static_cast<int>(selected.size());
   }
+  lock.unlock();
 
   PointFeatures out;
   // Tracked points first, described where they are.
@@ -135,7 +137,9 @@ PointFeatures SuperPointFrontend::detect(const cv::Mat& raw, const std::vector<c
 }
 
 void SuperPointFrontend::report_matches(int matched, int keypoints) {
-  if (config_.superpoint_adaptive_threshold) threshold_.report_matches(matched, keypoints);
+  if (!config_.superpoint_adaptive_threshold) return;
+  std::lock_guard<std::mutex> lock(threshold_mutex_);
+  threshold_.report_matches(matched, keypoints);
 }
 
 std::optional<std::filesystem::path> find_superpoint_weights(const FrontendConfig& config) {

@@ -6,6 +6,7 @@
 // dense descriptor map. Descriptors are float rows (CV_32F, unit norm), matched by LightGlue
 // or mutual nearest neighbours.
 #include <filesystem>
+#include <mutex>
 #include <memory>
 #include <optional>
 
@@ -31,6 +32,7 @@ class SuperPointFrontend final : public PointFrontend {
  private:
   FrontendConfig config_;
   nn::SuperPoint superpoint_;
+  std::mutex threshold_mutex_;  ///< guards threshold_ and decision_
   nn::AdaptiveThreshold threshold_;
   nn::ThresholdDecision decision_;
 };

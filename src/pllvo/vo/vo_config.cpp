@@ -60,6 +60,7 @@ void read_keyframes(const ConfigNode& n, KeyframePolicyConfig& c) {
   n.get("use_line_trigger", c.use_line_trigger);
   n.get("line_angle_distance_deg", c.line_angle_distance_deg);
   n.get("line_trigger_when_idle", c.line_trigger_when_idle);
+  n.get("point_trigger_while_in_flight", c.point_trigger_while_in_flight);
   n.get("line_min_angles", c.line_min_angles);
   n.reject_unknown_keys();
 }
@@ -117,7 +118,9 @@ void read_pipeline(const ConfigNode& n, PipelineConfig& c) {
 void read_run(const ConfigNode& n, RunConfig& c) {
   n.get("threaded", c.threaded);
   n.get("wait_when_starving", c.wait_when_starving);
+  n.get("starving_points", c.starving_points);
   n.get("network_threads", c.network_threads);
+  n.get("keyframe_stages", c.keyframe_stages);
   n.get("progress_interval_s", c.progress_interval_s);
   n.reject_unknown_keys();
 }
@@ -177,6 +180,8 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(network_key != "conv_layout", file, "frontend.superpoint_conv_layout",
           problem + " (got '" + f.superpoint_conv_layout + "')");
   require(run.network_threads >= 1 && run.network_threads <= 64, file, "run.network_threads", "must be in [1, 64]");
+  require(run.starving_points >= 0, file, "run.starving_points", "must not be negative");
+  require(run.keyframe_stages == 1 || run.keyframe_stages == 2, file, "run.keyframe_stages", "must be 1 or 2");
   require(klt.window_px >= 5 && klt.window_px % 2 == 1, file, "klt.window_px", "must be odd and >= 5");
   require(klt.levels >= 0 && klt.levels <= 6, file, "klt.levels", "must be in [0, 6]");
   require(klt.fb_threshold_px > 0, file, "klt.fb_threshold_px", "must be positive");

@@ -91,6 +91,10 @@ struct KltConfig {
 struct KeyframePolicyConfig {
   // (1) points: too few tracked, or the share of the keyframe's points still tracked falls.
   bool use_point_trigger = true;
+  /// Also while a keyframe is in flight (made, its result not yet with the tracker). Off:
+  /// the points it brings are awaited (run.starving_points guards tracking meanwhile);
+  /// threaded, a drop below min_tracked_points otherwise made two keyframes a frame apart.
+  bool point_trigger_while_in_flight = false;
   int min_tracked_points = 60;
   double min_tracked_ratio = 0.5;  ///< tracked now / tracked right after the keyframe
   /// Monocular only: while the new candidate points (tracked since their first keyframe, not
@@ -222,12 +226,16 @@ struct PipelineConfig {
 /// Everything else: threads, progress, output.
 struct RunConfig {
   bool threaded = true;        ///< keyframe worker thread; false: deterministic single thread
-  /// Threaded mode, offline input: when fewer map points are tracked than
-  /// keyframes.min_tracked_points while a keyframe is still being processed, the frame waits
-  /// for it instead of losing track (a live camera would drop frames then). Counted in
-  /// stats.json as `starved_waits`. Likewise when the point trigger (few points, tracking
-  /// quality) asks for a keyframe while the worker's queue is full. Off: tracking never waits.
+  /// Threaded mode, offline input: when fewer map points than starving_points are tracked
+  /// while a keyframe is still being processed, the frame waits for it instead of losing
+  /// track (a live camera would drop frames then). Counted in stats.json as `starved_waits`.
+  /// Likewise when the point trigger (few points, tracking quality) asks for a keyframe while
+  /// the worker's queue is full. Off: tracking never waits.
   bool wait_when_starving = true;
+  /// Below keyframes.min_tracked_points, so that tracking goes on with the points it has
+  /// while the keyframe that the point rule asked for is processed; at that same count every
+  /// point keyframe was waited for in full (docs/vo.md, session 12).
+  int starving_points = 45;
   double progress_interval_s = 2.0;  ///< wall time between progress lines (0: none)
   /// LibTorch + OpenBLAS threads for the networks on the keyframe worker (threaded runs; a
   /// single-thread run uses 1). Two made a quiet machine's run ~1.3x faster, but beside two
@@ -235,6 +243,10 @@ struct RunConfig {
   /// keyframe) and the run 2.2x slower; libgomp's wait policy cannot be set from inside the
   /// process (docs/vo.md, session 11). So one, unless the machine is yours alone.
   int network_threads = 1;
+  /// Threaded runs: 2 runs each keyframe's point detection (SuperPoint) on a thread of its
+  /// own, beside the previous keyframe's matching and bundle adjustment; 1 runs both on one
+  /// keyframe thread. Single-thread runs do everything in order on the caller's thread.
+  int keyframe_stages = 2;
 };
 
 struct VoConfig {
