@@ -73,16 +73,12 @@ PointFeatures SuperPointFrontend::detect(const cv::Mat& raw, const std::vector<c
   const nn::KeypointCandidates candidates =
       nn::find_candidates(dense.scores, superpoint_.config().nms_radius, superpoint_.config().remove_borders);
   std::vector<std::int32_t> selected;
-  std::unique_lock<std::mutex> lock(threshold_mutex_);  // report_matches may run on the other keyframe stage
   if (config_.superpoint_adaptive_threshold) {
-    selected = threshold_.select(candidates, &decision_);
+    std::lock_guard<std::mutex> lock(threshold_mutex_);  // report_matches may run on the other keyframe stage
+    selected = threshold_.select(candidates);
   } else {
     selected = nn::select_keypoints(candidates, static_cast<float>(config_.superpoint_threshold), config_.max_points * 4);
-    decision_ = {};
-    decision_.threshold = static_cast<float>(config_.superpoint_threshold);
-    decision_.selected = static_cast<int>(selected.size());
   }
-  lock.unlock();
 
   PointFeatures out;
   // Tracked points first, described where they are.

@@ -25,16 +25,13 @@ class SuperPointFrontend final : public PointFrontend {
   PointFeatures detect(const cv::Mat& image, const std::vector<cv::Point2f>& tracked) override;
   void report_matches(int matched, int keypoints) override;
 
-  /// The threshold chosen for the last detect() (adaptive or fixed).
-  const nn::ThresholdDecision& last_decision() const { return decision_; }
   const std::filesystem::path& weights_file() const { return superpoint_.weights_file(); }
 
  private:
   FrontendConfig config_;
   nn::SuperPoint superpoint_;
-  std::mutex threshold_mutex_;  ///< guards threshold_ and decision_
+  std::mutex threshold_mutex_;  ///< guards threshold_
   nn::AdaptiveThreshold threshold_;
-  nn::ThresholdDecision decision_;
 };
 
 /// The SuperPoint weights the front end would load (nn lookup order), or nullopt when none
