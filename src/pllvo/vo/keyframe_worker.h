@@ -42,7 +42,6 @@ class KeyframeWorker {
   /// Rethrows, on the caller's thread, the first exception a job raised.
   void rethrow_if_failed();
   bool threaded() const { return threaded_; }
-  int stages() const { return stages_; }
 
  private:
   struct Parts {
