@@ -30,6 +30,7 @@ TEST(LinesConfig, DefaultFileMatchesTheDefaultsInCode) {
   EXPECT_EQ(file.tracker.window_px, code.tracker.window_px);
   EXPECT_EQ(file.tracker.max_pyramid_level, code.tracker.max_pyramid_level);
   EXPECT_EQ(file.tracker.min_inlier_ratio, code.tracker.min_inlier_ratio);
+  EXPECT_EQ(file.tracker.aperture_max_eigen_ratio, code.tracker.aperture_max_eigen_ratio);
   EXPECT_EQ(file.tracker.fit.huber_normal_px, code.tracker.fit.huber_normal_px);
   EXPECT_EQ(file.cross_constraint.max_overlap_angle_deg, code.cross_constraint.max_overlap_angle_deg);
   EXPECT_EQ(file.overlap_angles.histogram_bins, code.overlap_angles.histogram_bins);
@@ -63,6 +64,8 @@ TEST(LinesConfig, OverridesAndErrorsNameTheKey) {
   expect_key(write_temp("typo.yaml", "tracker:\n  windw_px: 5\n"), "tracker.windw_px");
   expect_key(write_temp("type.yaml", "detector:\n  min_length_px: long\n"), "detector.min_length_px");
   expect_key(write_temp("range.yaml", "tracker:\n  min_inlier_ratio: 1.5\n"), "tracker.min_inlier_ratio");
+  expect_key(write_temp("aperture.yaml", "tracker:\n  aperture_max_eigen_ratio: 1\n"),
+             "tracker.aperture_max_eigen_ratio");
   expect_key(write_temp("op.yaml", "detector:\n  edge_drawing:\n    gradient_operator: canny\n"),
              "detector.edge_drawing.gradient_operator");
 }

@@ -9,6 +9,35 @@
 
 namespace pllvo::lines {
 
+namespace {
+/// Smaller over larger eigenvalue of the structure tensor of the window_px x window_px window
+/// around `p`, from the pyramid's level-0 derivatives (CV_16SC2); 0 on a flat window.
+double eigen_ratio(const cv::Mat& derivatives, const cv::Point2f& p, int window_px) {
+  const int half = window_px / 2;
+  const int cx = cvRound(p.x), cy = cvRound(p.y);
+  const int x0 = std::max(0, cx - half), x1 = std::min(derivatives.cols - 1, cx + half);
+  const int y0 = std::max(0, cy - half), y1 = std::min(derivatives.rows - 1, cy + half);
+  double a = 0.0, b = 0.0, c = 0.0;
+  for (int y = y0; y <= y1; ++y) {
+    const auto* row = derivatives.ptr<cv::Vec2s>(y);
+    for (int x = x0; x <= x1; ++x) {
+      const double dx = row[x][0], dy = row[x][1];
+      a += dx * dx, b += dx * dy, c += dy * dy;
+    }
+  }
+  const double trace = a + c;
+  if (trace <= 0.0) return 0.0;
+  const double root = std::sqrt(std::max(0.0, 0.25 * (a - c) * (a - c) + b * b));
+  return (0.5 * trace - root) / (0.5 * trace + root);
+}
+
+double median_of(std::vector<double> v) {
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+}  // namespace
+
 void LineTrackerConfig::load(const ConfigNode& node) {
   node.get("window_px", window_px);
   node.get("max_pyramid_level", max_pyramid_level);
@@ -20,6 +49,7 @@ void LineTrackerConfig::load(const ConfigNode& node) {
   node.get("min_samples", min_samples);
   node.get("max_samples", max_samples);
   node.get("end_margin_px", end_margin_px);
+  node.get("aperture_max_eigen_ratio", aperture_max_eigen_ratio);
   fit.load(node.child("fit"));
   node.get("min_inlier_ratio", min_inlier_ratio);
   node.get("max_residual_px", max_residual_px);
@@ -34,6 +64,8 @@ void LineTrackerConfig::load(const ConfigNode& node) {
   if (sample_spacing_px <= 0.0) throw InputError(node.file(), node.path("sample_spacing_px"), "must be > 0");
   if (min_samples < 2 || max_samples < min_samples)
     throw InputError(node.file(), node.path("min_samples"), "need 2 <= min_samples <= max_samples");
+  if (aperture_max_eigen_ratio < 0.0 || aperture_max_eigen_ratio >= 1.0)
+    throw InputError(node.file(), node.path("aperture_max_eigen_ratio"), "must be in [0, 1) (0 = off)");
   if (min_visible_ratio < 0.0 || min_visible_ratio > 1.0)
     throw InputError(node.file(), node.path("min_visible_ratio"), "must be in [0, 1]");
   if (min_inlier_ratio < 0.0 || min_inlier_ratio > 1.0)
@@ -115,6 +147,8 @@ std::vector<LineTrack> LineTracker::track(const OpticalFlowPyramid& prev, const 
       before.emplace_back(p0[k].x, p0[k].y);
       after.emplace_back(p1[k].x, p1[k].y);
     }
+    if (config_.aperture_max_eigen_ratio > 0.0 && !before.empty())
+      tr.aperture_samples = settle_aperture_samples(prev.levels()[1], lines[i], before, after);
     const int need = static_cast<int>(std::ceil(config_.min_inlier_ratio * tr.samples));
     if (static_cast<int>(before.size()) < std::max(2, need)) continue;  // FewInliers
     const LineMotionFit fit = fit_line_motion(lines[i], before, after, config_.fit);
@@ -144,6 +178,23 @@ std::vector<LineTrack> LineTracker::track(const OpticalFlowPyramid& prev, const 
     }
   }
   return tracks;
+}
+
+int LineTracker::settle_aperture_samples(const cv::Mat& derivatives, const LineSegment& line,
+                                         const std::vector<Eigen::Vector2d>& before,
+                                         std::vector<Eigen::Vector2d>& after) const {
+  const Eigen::Vector2d t = line.direction(), n = line.normal();
+  std::vector<double> along;
+  for (size_t k = 0; k < before.size(); ++k) along.push_back(t.dot(after[k] - before[k]));
+  const double median_along = median_of(along);
+  int settled = 0;
+  for (size_t k = 0; k < before.size(); ++k) {
+    const cv::Point2f p(static_cast<float>(before[k].x()), static_cast<float>(before[k].y()));
+    if (eigen_ratio(derivatives, p, config_.window_px) >= config_.aperture_max_eigen_ratio) continue;
+    after[k] = before[k] + n * n.dot(after[k] - before[k]) + t * median_along;
+    ++settled;
+  }
+  return settled;
 }
 
 std::vector<LineSegment> tracked_lines(const std::vector<LineTrack>& tracks) {

@@ -34,6 +34,13 @@ struct LineTrackerConfig {
   int min_samples = 5;   ///< short lines still get this many samples
   int max_samples = 12;  ///< long lines get at most this many (evenly spread)
   double end_margin_px = 2.0;  ///< samples stay this far inside the endpoints (corners move oddly)
+  /// Aperture problem: on a straight edge with flat sides LK fixes the motion across the edge
+  /// but not along it, and its samples slide along the edge by different amounts, so a clean
+  /// edge failed the tangential inlier gate or the length check. A sample whose LK window
+  /// (in frame k) has a structure tensor with smaller / larger eigenvalue below this ratio keeps
+  /// its motion across the line and takes, along the line, the median motion along the line of
+  /// the line's tracked samples (0 = off: every sample's LK motion as it is).
+  double aperture_max_eigen_ratio = 0.0;
   // Robust fit and acceptance.
   LineMotionFitConfig fit;
   double min_inlier_ratio = 0.7;   ///< inlier samples / samples
@@ -62,6 +69,7 @@ struct LineTrack {
   LineMotion motion;
   TrackStatus status = TrackStatus::FewInliers;
   int samples = 0;
+  int aperture_samples = 0;  ///< tracked samples whose motion along the line was replaced (aperture)
   int inliers = 0;
   double rms_normal_px = 0.0;
   double stretch = 1.0;
@@ -89,6 +97,11 @@ class LineTracker {
   const LineTrackerConfig& config() const { return config_; }
 
  private:
+  /// Replaces the motion along `line` of its aperture-limited samples (see
+  /// aperture_max_eigen_ratio) by the median motion along it; returns how many it replaced.
+  int settle_aperture_samples(const cv::Mat& derivatives, const LineSegment& line,
+                              const std::vector<Eigen::Vector2d>& before, std::vector<Eigen::Vector2d>& after) const;
+
   LineTrackerConfig config_;
 };
 
