@@ -43,5 +43,29 @@ TEST(Recovery, BlackFramesAreAGapAndTrackingResumesAccurately) {
   EXPECT_LT(e->percent_of_path, 4.5);
 }
 
+// The map restarted after the gap begins where the last velocity carries the last pose
+// (pose.extrapolate_gap_max_s), so the whole trajectory, both segments under one alignment,
+// follows the truth; starting at the last pose instead leaves the motion of the gap out.
+TEST(Recovery, TheTrajectoryStaysContinuousAcrossAShortGap) {
+  const auto spec = testing::small_spec("easy_normal", 4.0, true);
+  const size_t first_black = 35, last_black = 40;
+  auto whole_ate = [&](double extrapolate_gap_max_s) {
+    VoConfig config = testing::deterministic();
+    config.pose.extrapolate_gap_max_s = extrapolate_gap_max_s;
+    testing::BlackedOutSequence seq(io::open_sequence(testing::rendered(spec, "recovery")), first_black, last_black);
+    const RunSummary s = run_sequence(seq, config, {});
+    EXPECT_GE(s.resets, 1);
+    const auto e = trajectory_error(s.trajectory, *seq.ground_truth(), true);
+    EXPECT_TRUE(e.has_value());
+    return e ? e->rmse_m : 1e9;
+  };
+  const double carried = whole_ate(0.5), restarted_in_place = whole_ate(0.0);
+  std::printf("[ recovery ] whole trajectory SE3 ATE: %.4f m carried over the gap, %.4f m restarted at the last pose\n",
+              carried, restarted_in_place);
+  // Measured 0.034 m against 0.064 m (half resolution; the segment after the gap alone: 0.028 m).
+  EXPECT_LT(carried, 0.045);
+  EXPECT_GT(restarted_in_place, 1.5 * carried);
+}
+
 }  // namespace
 }  // namespace pllvo::vo

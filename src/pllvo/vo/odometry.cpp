@@ -29,6 +29,11 @@ int count_mapped(const std::vector<TrackedPoint>& tracks) {
       std::count_if(tracks.begin(), tracks.end(), [](const TrackedPoint& t) { return t.point != kNoId; }));
 }
 
+size_t count_mapped_lines(const std::vector<TrackedLine>& lines) {
+  return static_cast<size_t>(
+      std::count_if(lines.begin(), lines.end(), [](const TrackedLine& l) { return l.line != kNoId; }));
+}
+
 /// Re-detection baseline (pipeline.line_tracking: redetect): each expected segment takes the
 /// detection on the same image line (direction within kRedetectAngleDeg, both detected
 /// endpoints within kRedetectDistancePx of the expected line, overlapping along it), closest
@@ -167,6 +172,7 @@ FrameRecord Odometry::process(const io::Frame& frame) {
   previous_index_ = frame.index;
 
   record.tracked = tracked;
+  if (tracked) last_tracked_index_ = frame.index, last_tracked_time_ = frame.timestamp;
   record.segment = processor_.segment();
   if (tracked) {
     record.T_world_cam = to_output(T_world_work_);
@@ -223,8 +229,10 @@ bool Odometry::initialize_stereo(const io::Frame& frame, const cv::Mat& left, co
                                  const ImagePyramid& pyramid) {
   KeyframeJob job = make_keyframe_job(frame, left, right, pyramid, KeyframeReason::kInitialization);
   job.first = true;
+  job.T_world_cam = restart_pose(frame.index, frame.timestamp);
   const KeyframeResult result = processor_.process(job);
   if (!result.ok) return false;
+  T_world_work_ = job.T_world_cam;
   start_tracking(result, frame.timestamp);
   spdlog::info("stereo initialisation at frame {}: {} points", frame.index, result.tracks.size());
   return true;
@@ -293,7 +301,7 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   }
 
   // World = the reference camera's frame at the current segment start pose.
-  const geometry::Pose T_world_ref = T_world_work_;
+  const geometry::Pose T_world_ref = restart_pose(ref.frame_index, ref.timestamp);
   const geometry::Pose T_world_cur = T_world_ref * two_view.T_cam1_cam0.inverse();
   std::vector<std::optional<Eigen::Vector3d>> ref_points(ref.features.size());
   std::vector<cv::Point2f> second_px(ref.features.size(), cv::Point2f(NAN, NAN));
@@ -454,7 +462,10 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
       }
       predicted_lines.push_back(p);
     }
+    const size_t mapped_before = count_mapped_lines(line_tracks_);
     line_tracks_ = track_lines(previous_pyramid_, pyramid, line_tracks_, &predicted_lines, &line_detector_);
+    spdlog::debug("frame {}: line flow kept {} of {} mapped lines ({} lines in all)", frame.index,
+                  count_mapped_lines(line_tracks_), mapped_before, line_tracks_.size());
     if (config_.pose.use_lines) {
       map_.read([&](const MapData& m) {
         for (size_t i = 0; i < line_tracks_.size(); ++i) {
@@ -743,6 +754,8 @@ void Odometry::apply_keyframe_results() {
     tracks_ = std::move(merged);
     policy_.set_reference_points(count_mapped(tracks_));
     if (use_lines_) {
+      spdlog::debug("keyframe of frame {}: {} lines followed, {} of them mapped", result.frame_index,
+                    merged_lines.size(), count_mapped_lines(merged_lines));
       line_tracks_ = std::move(merged_lines);
       // The lines the tracker follows from now on, not the keyframe's own list (which holds
       // lines the tracker lost meanwhile and lacks map lines it keeps): against the latter the
@@ -847,7 +860,10 @@ std::vector<TrackedLine> Odometry::track_lines(const ImagePyramid& from, const I
   const auto tracks = line_tracker_.track(from.flow, to.flow, segments, predicted);
   std::vector<TrackedLine> kept;
   for (size_t i = 0; i < tracks.size(); ++i) {
-    if (tracks[i].status != lines::TrackStatus::Tracked) continue;
+    if (tracks[i].status != lines::TrackStatus::Tracked) {
+      stats_.add_count(std::string("line_rejected.") + lines::to_string(tracks[i].status));
+      continue;
+    }
     TrackedLine l = lines[i];
     l.segment = tracks[i].line;
     kept.push_back(l);
@@ -918,6 +934,7 @@ void Odometry::reset() {
   reference_angles_ = {};
   mono_.reset();
   state_ = TrackingState::kUninitialized;
+  gap_velocity_ = has_velocity_ ? std::optional<geometry::Pose>(velocity_) : std::nullopt;
   has_velocity_ = false;
   lost_frames_ = 0;
   ++resets_;
@@ -926,6 +943,16 @@ void Odometry::reset() {
   policy_ = KeyframePolicy(config_.keyframes);
   // The new segment starts at the last tracked pose, so the trajectory stays continuous
   // (up to the unknown scale of a new monocular map).
+}
+
+geometry::Pose Odometry::restart_pose(size_t frame_index, double timestamp) const {
+  const double max_gap = config_.pose.extrapolate_gap_max_s;
+  if (!gap_velocity_ || max_gap <= 0 || frame_index <= last_tracked_index_ ||
+      timestamp - last_tracked_time_ > max_gap)
+    return T_world_work_;
+  geometry::Pose T = T_world_work_;
+  for (size_t i = last_tracked_index_; i < frame_index; ++i) T = T * *gap_velocity_;
+  return T;
 }
 
 // ---------------------------------------------------------------- results

@@ -5,6 +5,7 @@
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <vector>
 
@@ -119,6 +120,9 @@ class Odometry {
   std::optional<double> candidate_parallax_deg() const;
   void handle_lost();
   void reset();
+  /// Where a map started at `frame_index` (time `timestamp`) after a reset begins: the last
+  /// tracked pose carried on by the velocity of its step, within pose.extrapolate_gap_max_s.
+  geometry::Pose restart_pose(size_t frame_index, double timestamp) const;
   geometry::Pose to_output(const geometry::Pose& T_world_work) const;
   /// Smooths both images when the left one's noise reaches klt.denoise_min_noise (low light).
   void denoise(cv::Mat& left, cv::Mat& right);
@@ -154,6 +158,10 @@ class Odometry {
   geometry::Pose velocity_ = geometry::Pose::Identity();  ///< T_prev_cur of the last tracked step
   bool has_velocity_ = false;
   int lost_frames_ = 0;
+  /// The last tracked frame, and the velocity of its step kept over a reset (restart_pose).
+  size_t last_tracked_index_ = 0;
+  double last_tracked_time_ = 0;
+  std::optional<geometry::Pose> gap_velocity_;
   double frame_brightness_ = 0;  ///< mean grey level of the current left image before normalisation
   int resets_ = 0;
   geometry::Pose T_work_cam0_;

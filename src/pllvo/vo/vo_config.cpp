@@ -1,6 +1,7 @@
 #include "pllvo/vo/vo_config.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "pllvo/nn/superpoint.h"
 
@@ -80,6 +81,7 @@ void read_pose(const ConfigNode& n, PoseConfig& c) {
   n.get("lost_frames_before_reset", c.lost_frames_before_reset);
   n.get("merge_gate_px", c.merge_gate_px);
   n.get("min_inliers_with_prior", c.min_inliers_with_prior);
+  n.get("extrapolate_gap_max_s", c.extrapolate_gap_max_s);
   n.reject_unknown_keys();
 }
 
@@ -201,6 +203,8 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(keyframes.line_angle_distance_deg > 0 && keyframes.line_angle_distance_deg <= 90, file,
           "keyframes.line_angle_distance_deg", "must be in (0, 90]");
   require(pose.lost_frames_before_reset >= 1, file, "pose.lost_frames_before_reset", "must be at least 1");
+  require(pose.extrapolate_gap_max_s >= 0 && std::isfinite(pose.extrapolate_gap_max_s), file,
+          "pose.extrapolate_gap_max_s", "must be >= 0 (0: off)");
   require(init.min_points >= 8, file, "init.min_points", "must be at least 8");
   require(mapping.matcher == "auto" || mapping.matcher == "lightglue" || mapping.matcher == "mnn", file,
           "mapping.matcher", "must be auto, lightglue or mnn");

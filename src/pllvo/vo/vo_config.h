@@ -149,6 +149,11 @@ struct PoseConfig {
   /// When PnP / the refinement fail for want of points, a pose is still accepted from the
   /// motion prior plus at least this many agreeing observations (points + lines); 0: off.
   int min_inliers_with_prior = 5;
+  /// After a reset, a new map started within this many seconds of the last tracked pose
+  /// starts where the last velocity carries that pose (constant velocity over the gap), not at
+  /// the pose itself: a stereo map is metric, so the trajectory then stays continuous across a
+  /// short loss instead of jumping back by the motion during the gap (0: at the last pose).
+  double extrapolate_gap_max_s = 0.5;
 };
 
 /// New keyframes: their features without a point matched with recent keyframes' points by
