@@ -59,6 +59,7 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.run.keyframe_stages, code.run.keyframe_stages);
   EXPECT_EQ(file.run.starving_points, code.run.starving_points);
   EXPECT_DOUBLE_EQ(file.pose.extrapolate_gap_max_s, code.pose.extrapolate_gap_max_s);
+  EXPECT_EQ(file.pose.relocalise_min_inliers, code.pose.relocalise_min_inliers);
   EXPECT_EQ(file.run.wait_when_starving, code.run.wait_when_starving);
   EXPECT_EQ(file.frontend.superpoint_conv_layout, code.frontend.superpoint_conv_layout);
   EXPECT_EQ(file.mapping.match_untracked_only, code.mapping.match_untracked_only);
@@ -103,15 +104,17 @@ TEST(VoConfig, ProjectionSearchIsReadAndChecked) {
 TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {
   const VoConfig c = VoConfig::load(write_yaml(
       "speed", "frontend:\n  superpoint_conv_layout: nchw\nrun:\n  network_threads: 1\n  keyframe_stages: 1\n  starving_points: 25\n"
-               "mapping:\n  match_untracked_only: false\npose:\n  extrapolate_gap_max_s: 0.25\n"));
+               "mapping:\n  match_untracked_only: false\npose:\n  extrapolate_gap_max_s: 0.25\n  relocalise_min_inliers: 0\n"));
   EXPECT_EQ(c.frontend.superpoint_conv_layout, "nchw");
   EXPECT_EQ(c.run.network_threads, 1);
   EXPECT_EQ(c.run.keyframe_stages, 1);
   EXPECT_EQ(c.run.starving_points, 25);
   EXPECT_FALSE(c.mapping.match_untracked_only);
   EXPECT_DOUBLE_EQ(c.pose.extrapolate_gap_max_s, 0.25);
+  EXPECT_EQ(c.pose.relocalise_min_inliers, 0);
   const std::pair<const char*, const char*> bad[] = {
       {"pose:\n  extrapolate_gap_max_s: -0.1\n", "pose.extrapolate_gap_max_s"},
+      {"pose:\n  relocalise_min_inliers: 3\n", "pose.relocalise_min_inliers"},
       {"frontend:\n  superpoint_conv_layout: nhwc\n", "frontend.superpoint_conv_layout"},
       {"run:\n  network_threads: 0\n", "run.network_threads"},
       {"run:\n  keyframe_stages: 3\n", "run.keyframe_stages"},

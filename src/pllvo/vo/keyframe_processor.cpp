@@ -68,6 +68,7 @@ PointFeatures KeyframeProcessor::detect(const cv::Mat& image) {
 }
 
 void KeyframeProcessor::start_segment() {
+  if (!segment_keyframes_.empty()) relocalisation_keyframe_ = segment_keyframes_.back();
   ++segment_;
   segment_keyframes_.clear();
 }
@@ -139,6 +140,42 @@ geometry::Pose KeyframeProcessor::current_pose(const KeyframeJob& job) {
   return e.ok ? e.T_world_cam : job.T_world_cam;
 }
 
+std::optional<geometry::Pose> KeyframeProcessor::relocalise(const KeyframeJob& job, const PointFeatures& features) {
+  const int min_inliers = config_.pose.relocalise_min_inliers;
+  if (min_inliers <= 0 || relocalisation_keyframe_ == kNoId || features.size() == 0) return std::nullopt;
+  ScopedTimer t(stats_, "kf_relocalise");
+  Keyframe last;
+  bool found = false;
+  map_.read([&](const MapData& m) {
+    auto it = m.keyframes.find(relocalisation_keyframe_);
+    if (it != m.keyframes.end()) last = it->second, found = true;
+  });
+  if (!found) return std::nullopt;
+  const std::vector<PointMatch> matches = matcher_->match(last.features, features, job.left.size());
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<Eigen::Vector2d> px;
+  map_.read([&](const MapData& m) {
+    for (const auto& mt : matches) {
+      auto it = m.points.find(last.point_ids[mt.a]);
+      if (last.point_ids[mt.a] == kNoId || it == m.points.end()) continue;
+      pts.push_back(it->second.position);
+      px.push_back(to_eigen(features.points[mt.b]));
+    }
+  });
+  if (static_cast<int>(pts.size()) < min_inliers) {
+    spdlog::debug("frame {}: no relocalisation, {} matches with map points of keyframe {}", job.frame_index,
+                  pts.size(), relocalisation_keyframe_);
+    return std::nullopt;
+  }
+  const PoseEstimate e = estimate_pose(camera_, pts, px, {}, std::nullopt, config_.geometry, config_.backend);
+  spdlog::debug("frame {}: relocalisation against keyframe {}: {} matches with map points, {} inliers{}",
+                job.frame_index, relocalisation_keyframe_, pts.size(), e.ok ? e.num_point_inliers : 0,
+                e.ok && e.num_point_inliers >= min_inliers ? "" : " (not used)");
+  if (!e.ok || e.num_point_inliers < min_inliers) return std::nullopt;
+  stats_.add_count("relocalisations");
+  return e.T_world_cam;
+}
+
 std::vector<PointMatch> KeyframeProcessor::match_previous(const Keyframe& prev, const KeyframeJob& job,
                                                           const PointFeatures& features, int& linked) {
   linked = 0;
@@ -195,6 +232,9 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
   job.T_world_cam = current_pose(original_job);
   KeyframeResult result;
   result.frame_index = job.frame_index;
+  if (job.first && !job.right.empty()) {
+    if (const auto T = relocalise(job, features)) job.T_world_cam = *T, result.relocalised = true;
+  }
   const size_t n = features.size();
   std::vector<Id> ids(n, kNoId);
   std::vector<Observation> origins(n);   // first keyframe observation (kNoId: this keyframe)
@@ -369,6 +409,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
   segment_keyframes_.push_back(kid);
   result.ok = true;
   result.keyframe = kid;
+  result.T_world_cam = job.T_world_cam;
   result.new_points = new_points;
   stats_.add_count("keyframes");
   stats_.add_count("keyframes." + to_string(job.reason));

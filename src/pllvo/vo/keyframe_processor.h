@@ -52,6 +52,8 @@ struct KeyframeResult {
   std::vector<TrackedPoint> new_tracks;
   std::vector<TrackedLine> new_lines;
   size_t followed_frame = 0;
+  geometry::Pose T_world_cam = geometry::Pose::Identity();  ///< the keyframe's pose as added
+  bool relocalised = false;          ///< a first keyframe placed by relocalisation (pose.relocalise_min_inliers)
   int matches = 0;                   ///< features linked to the previous keyframe (KLT tracks + matcher)
   int new_points = 0;
   int created_lines = 0;
@@ -86,7 +88,8 @@ class KeyframeProcessor {
   /// Detection for the tracker's own use (monocular initialisation); not thread-safe with process().
   PointFeatures detect(const cv::Mat& image);
 
-  /// The next keyframe starts a new map segment (after a tracking loss).
+  /// The next keyframe starts a new map segment (after a tracking loss); the last keyframe of
+  /// the segment that ends is where a stereo restart relocalises.
   void start_segment();
   int segment() const { return segment_; }
   const std::string& frontend_name() const { return frontend_name_; }
@@ -94,6 +97,9 @@ class KeyframeProcessor {
 
  private:
   geometry::Pose current_pose(const KeyframeJob& job);
+  /// The pose of a segment's first keyframe against the last keyframe before the loss, when
+  /// enough of its matches' map points agree (pose.relocalise_min_inliers).
+  std::optional<geometry::Pose> relocalise(const KeyframeJob& job, const PointFeatures& features);
   /// The first keyframe of a stereo segment: enough metric points and lines to start on.
   bool stereo_start_ok(const std::vector<std::optional<Eigen::Vector3d>>& stereo, int stereo_lines) const;
   /// New points from the stereo pair for features without a map point; `right_px` gets the
@@ -123,6 +129,7 @@ class KeyframeProcessor {
   std::unique_ptr<LineMapper> line_mapper_;  ///< null when lines are off
   int segment_ = 0;
   std::vector<Id> segment_keyframes_;  ///< keyframes of the current segment, oldest first
+  Id relocalisation_keyframe_ = kNoId;  ///< the last keyframe before the latest loss
 };
 
 }  // namespace pllvo::vo

@@ -232,9 +232,10 @@ bool Odometry::initialize_stereo(const io::Frame& frame, const cv::Mat& left, co
   job.T_world_cam = restart_pose(frame.index, frame.timestamp);
   const KeyframeResult result = processor_.process(job);
   if (!result.ok) return false;
-  T_world_work_ = job.T_world_cam;
+  T_world_work_ = result.T_world_cam;
   start_tracking(result, frame.timestamp);
-  spdlog::info("stereo initialisation at frame {}: {} points", frame.index, result.tracks.size());
+  spdlog::info("stereo initialisation at frame {}: {} points{}", frame.index, result.tracks.size(),
+               result.relocalised ? ", relocalised in the map before the loss" : "");
   return true;
 }
 
@@ -950,9 +951,14 @@ geometry::Pose Odometry::restart_pose(size_t frame_index, double timestamp) cons
   if (!gap_velocity_ || max_gap <= 0 || frame_index <= last_tracked_index_ ||
       timestamp - last_tracked_time_ > max_gap)
     return T_world_work_;
+  // Only the position is carried on: over a few frames the rotation rate of a swinging camera
+  // changes more than its speed does (docs/vo.md, session 13), and the last orientation was the
+  // better guess on the measured gaps.
   geometry::Pose T = T_world_work_;
   for (size_t i = last_tracked_index_; i < frame_index; ++i) T = T * *gap_velocity_;
-  return T;
+  geometry::Pose start = T_world_work_;
+  start.translation() = T.translation();
+  return start;
 }
 
 // ---------------------------------------------------------------- results

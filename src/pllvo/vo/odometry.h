@@ -120,8 +120,9 @@ class Odometry {
   std::optional<double> candidate_parallax_deg() const;
   void handle_lost();
   void reset();
-  /// Where a map started at `frame_index` (time `timestamp`) after a reset begins: the last
-  /// tracked pose carried on by the velocity of its step, within pose.extrapolate_gap_max_s.
+  /// Where a map started at `frame_index` (time `timestamp`) after a reset begins, unless it
+  /// relocalises: the last tracked pose, its position carried on by the velocity of its step
+  /// within pose.extrapolate_gap_max_s.
   geometry::Pose restart_pose(size_t frame_index, double timestamp) const;
   geometry::Pose to_output(const geometry::Pose& T_world_work) const;
   /// Smooths both images when the left one's noise reaches klt.denoise_min_noise (low light).

@@ -82,6 +82,7 @@ void read_pose(const ConfigNode& n, PoseConfig& c) {
   n.get("merge_gate_px", c.merge_gate_px);
   n.get("min_inliers_with_prior", c.min_inliers_with_prior);
   n.get("extrapolate_gap_max_s", c.extrapolate_gap_max_s);
+  n.get("relocalise_min_inliers", c.relocalise_min_inliers);
   n.reject_unknown_keys();
 }
 
@@ -205,6 +206,8 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(pose.lost_frames_before_reset >= 1, file, "pose.lost_frames_before_reset", "must be at least 1");
   require(pose.extrapolate_gap_max_s >= 0 && std::isfinite(pose.extrapolate_gap_max_s), file,
           "pose.extrapolate_gap_max_s", "must be >= 0 (0: off)");
+  require(pose.relocalise_min_inliers == 0 || pose.relocalise_min_inliers >= 6, file, "pose.relocalise_min_inliers",
+          "must be 0 (off) or at least 6");
   require(init.min_points >= 8, file, "init.min_points", "must be at least 8");
   require(mapping.matcher == "auto" || mapping.matcher == "lightglue" || mapping.matcher == "mnn", file,
           "mapping.matcher", "must be auto, lightglue or mnn");

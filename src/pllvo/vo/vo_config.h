@@ -149,11 +149,16 @@ struct PoseConfig {
   /// When PnP / the refinement fail for want of points, a pose is still accepted from the
   /// motion prior plus at least this many agreeing observations (points + lines); 0: off.
   int min_inliers_with_prior = 5;
-  /// After a reset, a new map started within this many seconds of the last tracked pose
-  /// starts where the last velocity carries that pose (constant velocity over the gap), not at
-  /// the pose itself: a stereo map is metric, so the trajectory then stays continuous across a
-  /// short loss instead of jumping back by the motion during the gap (0: at the last pose).
+  /// After a reset, a new map started within this many seconds of the last tracked pose (and
+  /// not relocalised) starts at that pose moved on by the last velocity's translation over the
+  /// gap, with the last orientation: the trajectory then does not jump back by the distance
+  /// travelled during a short loss (0: at the last pose).
   double extrapolate_gap_max_s = 0.5;
+  /// A stereo map restarted after a loss first relocalises against the last keyframe before
+  /// the loss: its features matched with that keyframe's (the keyframe matcher), PnP + RANSAC
+  /// on the map points of the matches. With at least this many inliers the new map starts at
+  /// that pose, in the old map's frame; otherwise at restart_pose (0: never relocalise).
+  int relocalise_min_inliers = 20;
 };
 
 /// New keyframes: their features without a point matched with recent keyframes' points by
