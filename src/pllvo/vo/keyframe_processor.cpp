@@ -156,8 +156,10 @@ std::optional<geometry::Pose> KeyframeProcessor::relocalise(const KeyframeJob& j
   std::vector<Eigen::Vector2d> px;
   map_.read([&](const MapData& m) {
     for (const auto& mt : matches) {
-      auto it = m.points.find(last.point_ids[mt.a]);
-      if (last.point_ids[mt.a] == kNoId || it == m.points.end()) continue;
+      const Id pid = last.point_ids[mt.a];
+      if (pid == kNoId) continue;
+      auto it = m.points.find(pid);
+      if (it == m.points.end()) continue;
       pts.push_back(it->second.position);
       px.push_back(to_eigen(features.points[mt.b]));
     }
@@ -232,9 +234,6 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
   job.T_world_cam = current_pose(original_job);
   KeyframeResult result;
   result.frame_index = job.frame_index;
-  if (job.first && !job.right.empty()) {
-    if (const auto T = relocalise(job, features)) job.T_world_cam = *T, result.relocalised = true;
-  }
   const size_t n = features.size();
   std::vector<Id> ids(n, kNoId);
   std::vector<Observation> origins(n);   // first keyframe observation (kNoId: this keyframe)
@@ -352,6 +351,11 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
   // Without stereo lines the points alone decide a stereo start: no line work on a failed one.
   const bool stereo_lines = line_mapper_ && config_.lines.stereo.enabled && !job.right.empty();
   if (job.first && !stereo_lines && !stereo_start_ok(stereo, 0)) return result;
+  // A first keyframe has no map points nor candidates yet: its pose is first used from here on
+  // (stereo points into the world, lines), so a restart can still be placed in the old map.
+  if (job.first && !job.right.empty()) {
+    if (const auto T = relocalise(job, features)) job.T_world_cam = *T, result.relocalised = true;
+  }
 
   LinePlan line_plan;
   if (line_mapper_) {
