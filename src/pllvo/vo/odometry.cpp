@@ -172,9 +172,10 @@ FrameRecord Odometry::process(const io::Frame& frame) {
   previous_index_ = frame.index;
 
   record.tracked = tracked;
-  if (tracked) last_tracked_index_ = frame.index, last_tracked_time_ = frame.timestamp;
   record.segment = processor_.segment();
   if (tracked) {
+    last_tracked_index_ = frame.index;
+    last_tracked_time_ = frame.timestamp;
     record.T_world_cam = to_output(T_world_work_);
     if (record.tracked_points == 0) record.tracked_points = count_mapped(tracks_);
   }

@@ -6,6 +6,7 @@
 #include <opencv2/video/tracking.hpp>
 
 #include "pllvo/common/error.h"
+#include "pllvo/common/statistics.h"
 
 namespace pllvo::lines {
 
@@ -29,12 +30,6 @@ double eigen_ratio(const cv::Mat& derivatives, const cv::Point2f& p, int window_
   if (trace <= 0.0) return 0.0;
   const double root = std::sqrt(std::max(0.0, 0.25 * (a - c) * (a - c) + b * b));
   return (0.5 * trace - root) / (0.5 * trace + root);
-}
-
-double median_of(std::vector<double> v) {
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
 }
 }  // namespace
 
@@ -186,7 +181,7 @@ int LineTracker::settle_aperture_samples(const cv::Mat& derivatives, const LineS
   const Eigen::Vector2d t = line.direction(), n = line.normal();
   std::vector<double> along;
   for (size_t k = 0; k < before.size(); ++k) along.push_back(t.dot(after[k] - before[k]));
-  const double median_along = median_of(along);
+  const double median_along = median(along);
   int settled = 0;
   for (size_t k = 0; k < before.size(); ++k) {
     const cv::Point2f p(static_cast<float>(before[k].x()), static_cast<float>(before[k].y()));
