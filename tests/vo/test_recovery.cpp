@@ -3,6 +3,10 @@
 // it, and the poses after the recovery are accurate against the ground truth.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
 #include "pllvo/vo/run_sequence.h"
 #include "synthetic_sequence.h"
 
@@ -77,6 +81,74 @@ TEST(Recovery, TheTrajectoryStaysContinuousAcrossAShortGap) {
   EXPECT_EQ(carried.relocalisations, 0);
   EXPECT_LT(relocalised.ate_m, 0.6 * in_place.ate_m);  // measured 0.027 against 0.064 m
   EXPECT_LT(carried.ate_m, in_place.ate_m);
+}
+
+// Estimated over true path length between t0 and t1: the scale of a monocular map there.
+double scale_between(const io::Trajectory& est, const io::Trajectory& truth, double t0, double t1) {
+  auto true_position = [&](double t) {
+    const auto it = std::lower_bound(truth.stamps.begin(), truth.stamps.end(), t);
+    return truth.poses[std::min<size_t>(it - truth.stamps.begin(), truth.size() - 1)].translation();
+  };
+  double estimated = 0, real = 0;
+  std::optional<size_t> last;
+  for (size_t i = 0; i < est.size(); ++i) {
+    if (est.stamps[i] < t0 || est.stamps[i] > t1) continue;
+    if (last) {
+      estimated += (est.poses[i].translation() - est.poses[*last].translation()).norm();
+      real += (true_position(est.stamps[i]) - true_position(est.stamps[*last])).norm();
+    }
+    last = i;
+  }
+  return real > 0 ? estimated / real : 0.0;
+}
+
+// A monocular map cannot relocalise by stereo: after the gap its frames try to relocalise
+// against the last keyframe before it (pose.mono_resume_max_s); the map then resumes at its
+// own scale, so the whole trajectory fits the truth under one Sim3, where a new two-view
+// start would begin a second map at another, arbitrary scale.
+TEST(Recovery, AMonocularMapResumesAtItsScaleAfterAShortGap) {
+  // The preset starts from rest: the two-view start comes at frame ~49 (2.5 s).
+  const auto spec = testing::small_spec("easy_normal", 6.0, false);
+  const size_t first_black = 75, last_black = 80;
+  struct Outcome {
+    double ate_percent = 1e9;
+    int relocalisations = 0, resumed = 0, resets = 0;
+    size_t frames = 0, tracked_after = 0;
+    double scale_change = 0;  // the map's scale in the second after the gap over that in the second before
+  };
+  auto run = [&](double mono_resume_max_s) {
+    VoConfig config = testing::deterministic();
+    config.pose.mono_resume_max_s = mono_resume_max_s;
+    testing::BlackedOutSequence seq(io::open_sequence(testing::rendered(spec, "recovery_mono")), first_black,
+                                    last_black);
+    const RunSummary s = run_sequence(seq, config, {});
+    Outcome o;
+    if (s.error) o.ate_percent = s.error->percent_of_path;
+    o.relocalisations = s.stats["counts"].value("relocalisations", 0);
+    o.resumed = s.stats["keyframes_by_reason"]["relocalisation"].get<int>();
+    o.resets = s.resets;
+    o.frames = s.frames;
+    for (size_t i = 0; i < s.trajectory.size(); ++i) o.tracked_after += s.trajectory.stamps[i] > seq.timestamp(last_black);
+    const double t0 = seq.timestamp(first_black), t1 = seq.timestamp(last_black + 1);
+    o.scale_change = scale_between(s.trajectory, *seq.ground_truth(), t1, t1 + 1.0) /
+                     scale_between(s.trajectory, *seq.ground_truth(), t0 - 1.0, t0);
+    return o;
+  };
+  const Outcome resumed = run(VoConfig().pose.mono_resume_max_s);
+  const Outcome restarted = run(0.0);
+  std::printf("[ recovery ] mono: scale after the gap over before %.3f resumed (%d relocalisations, %zu poses after "
+              "the gap), %.3f with a new two-view start; whole trajectory Sim3 ATE %.2f %% against %.2f %%\n",
+              resumed.scale_change, resumed.relocalisations, resumed.tracked_after, restarted.scale_change,
+              resumed.ate_percent, restarted.ate_percent);
+  EXPECT_EQ(resumed.resets, 1);
+  EXPECT_EQ(resumed.relocalisations, 1);
+  EXPECT_EQ(resumed.resumed, 1);
+  EXPECT_EQ(restarted.resumed, 0);
+  // Back on the first frame after the gap: every later frame has a pose.
+  EXPECT_EQ(resumed.tracked_after, resumed.frames - 1 - last_black);
+  EXPECT_NEAR(resumed.scale_change, 1.0, 0.15);
+  EXPECT_GT(std::abs(std::log(restarted.scale_change)), std::abs(std::log(resumed.scale_change)));
+  EXPECT_LT(resumed.ate_percent, restarted.ate_percent);
 }
 
 }  // namespace

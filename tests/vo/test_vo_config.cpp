@@ -60,6 +60,8 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.run.starving_points, code.run.starving_points);
   EXPECT_DOUBLE_EQ(file.pose.extrapolate_gap_max_s, code.pose.extrapolate_gap_max_s);
   EXPECT_EQ(file.pose.relocalise_min_inliers, code.pose.relocalise_min_inliers);
+  EXPECT_DOUBLE_EQ(file.pose.mono_resume_max_s, code.pose.mono_resume_max_s);
+  EXPECT_EQ(file.pose.relocalise_keyframes, code.pose.relocalise_keyframes);
   EXPECT_EQ(file.run.wait_when_starving, code.run.wait_when_starving);
   EXPECT_EQ(file.frontend.superpoint_conv_layout, code.frontend.superpoint_conv_layout);
   EXPECT_EQ(file.mapping.match_untracked_only, code.mapping.match_untracked_only);
@@ -104,7 +106,8 @@ TEST(VoConfig, ProjectionSearchIsReadAndChecked) {
 TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {
   const VoConfig c = VoConfig::load(write_yaml(
       "speed", "frontend:\n  superpoint_conv_layout: nchw\nrun:\n  network_threads: 1\n  keyframe_stages: 1\n  starving_points: 25\n"
-               "mapping:\n  match_untracked_only: false\npose:\n  extrapolate_gap_max_s: 0.25\n  relocalise_min_inliers: 0\n"));
+               "mapping:\n  match_untracked_only: false\npose:\n  extrapolate_gap_max_s: 0.25\n  relocalise_min_inliers: 0\n"
+               "  mono_resume_max_s: 1.5\n  relocalise_keyframes: 2\n"));
   EXPECT_EQ(c.frontend.superpoint_conv_layout, "nchw");
   EXPECT_EQ(c.run.network_threads, 1);
   EXPECT_EQ(c.run.keyframe_stages, 1);
@@ -112,9 +115,13 @@ TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {
   EXPECT_FALSE(c.mapping.match_untracked_only);
   EXPECT_DOUBLE_EQ(c.pose.extrapolate_gap_max_s, 0.25);
   EXPECT_EQ(c.pose.relocalise_min_inliers, 0);
+  EXPECT_DOUBLE_EQ(c.pose.mono_resume_max_s, 1.5);
+  EXPECT_EQ(c.pose.relocalise_keyframes, 2);
   const std::pair<const char*, const char*> bad[] = {
       {"pose:\n  extrapolate_gap_max_s: -0.1\n", "pose.extrapolate_gap_max_s"},
       {"pose:\n  relocalise_min_inliers: 3\n", "pose.relocalise_min_inliers"},
+      {"pose:\n  mono_resume_max_s: -1\n", "pose.mono_resume_max_s"},
+      {"pose:\n  relocalise_keyframes: 0\n", "pose.relocalise_keyframes"},
       {"frontend:\n  superpoint_conv_layout: nhwc\n", "frontend.superpoint_conv_layout"},
       {"run:\n  network_threads: 0\n", "run.network_threads"},
       {"run:\n  keyframe_stages: 3\n", "run.keyframe_stages"},

@@ -35,8 +35,8 @@ struct TwoViewConfig {
   /// short to initialise.
   double min_median_parallax_deg = 1.0;
   /// Minimum number of triangulated points, and the fraction of model inliers that the
-  /// winning candidate must explain.
-  int min_triangulated = 50;
+  /// winning candidate must explain (35 with vo's init.min_points: docs/vo.md, session 14).
+  int min_triangulated = 35;
   double min_good_fraction = 0.9;
   /// Rejected as ambiguous when another candidate explains more than this fraction of the
   /// winner's consistent points.

@@ -12,6 +12,7 @@ std::string to_string(KeyframeReason reason) {
     case KeyframeReason::kMaxInterval: return "max_interval";
     case KeyframeReason::kIdleInterval: return "idle_interval";
     case KeyframeReason::kLineAngles: return "line_angles";
+    case KeyframeReason::kRelocalisation: return "relocalisation";
   }
   return "unknown";
 }
@@ -19,7 +20,8 @@ std::string to_string(KeyframeReason reason) {
 const std::vector<KeyframeReason>& all_keyframe_reasons() {
   static const std::vector<KeyframeReason> reasons = {
       KeyframeReason::kInitialization, KeyframeReason::kFewPoints,    KeyframeReason::kTrackingQuality,
-      KeyframeReason::kMaxInterval,    KeyframeReason::kIdleInterval, KeyframeReason::kLineAngles};
+      KeyframeReason::kMaxInterval,    KeyframeReason::kIdleInterval, KeyframeReason::kLineAngles,
+      KeyframeReason::kRelocalisation};
   return reasons;
 }
 

@@ -18,6 +18,7 @@ enum class KeyframeReason {
   kMaxInterval,       ///< (2) too long since the last keyframe
   kIdleInterval,      ///< (2) back end idle and the minimum interval passed
   kLineAngles,        ///< (3) the line overlap-angle set changed beyond its threshold
+  kRelocalisation,    ///< a monocular frame placed in the map before a loss: that map resumes
 };
 
 /// Stable lower-case name used in logs and stats.json.

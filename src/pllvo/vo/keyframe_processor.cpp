@@ -68,9 +68,41 @@ PointFeatures KeyframeProcessor::detect(const cv::Mat& image) {
 }
 
 void KeyframeProcessor::start_segment() {
-  if (!segment_keyframes_.empty()) relocalisation_keyframe_ = segment_keyframes_.back();
-  ++segment_;
+  if (!segment_keyframes_.empty()) {
+    const size_t keep = std::min(segment_keyframes_.size(), static_cast<size_t>(config_.pose.relocalise_keyframes));
+    relocalisation_keyframes_.assign(segment_keyframes_.end() - static_cast<std::ptrdiff_t>(keep), segment_keyframes_.end());
+    previous_segment_ = segment_;
+    previous_segment_keyframes_ = std::move(segment_keyframes_);
+  }
+  segment_ = ++last_segment_;
   segment_keyframes_.clear();
+}
+
+KeyframeResult KeyframeProcessor::resume_segment(KeyframeJob job, PointFeatures features) {
+  KeyframeResult result;
+  result.frame_index = job.frame_index;
+  if (!can_resume()) return result;
+  const auto T = relocalise(job, features);
+  if (!T) return result;
+  const int new_segment = segment_;
+  segment_ = previous_segment_;
+  segment_keyframes_ = std::move(previous_segment_keyframes_);
+  previous_segment_keyframes_.clear();
+  job.first = false;
+  job.tracks.clear();
+  job.T_world_cam = *T;
+  job.reason = KeyframeReason::kRelocalisation;
+  DetectedKeyframe detected;
+  detected.features = std::move(features);
+  result = process(job, std::move(detected));
+  if (!result.ok) {
+    previous_segment_keyframes_ = std::move(segment_keyframes_);
+    segment_keyframes_.clear();
+    segment_ = new_segment;
+    return result;
+  }
+  result.relocalised = true;
+  return result;
 }
 
 std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::stereo_points(const KeyframeJob& job,
@@ -142,36 +174,42 @@ geometry::Pose KeyframeProcessor::current_pose(const KeyframeJob& job) {
 
 std::optional<geometry::Pose> KeyframeProcessor::relocalise(const KeyframeJob& job, const PointFeatures& features) {
   const int min_inliers = config_.pose.relocalise_min_inliers;
-  if (min_inliers <= 0 || relocalisation_keyframe_ == kNoId || features.size() == 0) return std::nullopt;
+  if (min_inliers <= 0 || relocalisation_keyframes_.empty() || features.size() == 0) return std::nullopt;
   ScopedTimer t(stats_, "kf_relocalise");
-  Keyframe last;
-  bool found = false;
+  // Each of the last keyframes before the loss holds only the points it saw linked; pooled, they
+  // hold more of the map around the loss. A feature and a point each count once (newest first).
+  std::vector<Keyframe> recent;
   map_.read([&](const MapData& m) {
-    auto it = m.keyframes.find(relocalisation_keyframe_);
-    if (it != m.keyframes.end()) last = it->second, found = true;
+    for (auto id = relocalisation_keyframes_.rbegin(); id != relocalisation_keyframes_.rend(); ++id)
+      if (auto it = m.keyframes.find(*id); it != m.keyframes.end()) recent.push_back(it->second);
   });
-  if (!found) return std::nullopt;
-  const std::vector<PointMatch> matches = matcher_->match(last.features, features, job.left.size());
   std::vector<Eigen::Vector3d> pts;
   std::vector<Eigen::Vector2d> px;
-  map_.read([&](const MapData& m) {
-    for (const auto& mt : matches) {
-      const Id pid = last.point_ids[mt.a];
-      if (pid == kNoId) continue;
-      auto it = m.points.find(pid);
-      if (it == m.points.end()) continue;
-      pts.push_back(it->second.position);
-      px.push_back(to_eigen(features.points[mt.b]));
-    }
-  });
+  std::set<Id> used_points;
+  std::vector<char> used_features(features.size(), 0);
+  for (const Keyframe& kf : recent) {
+    const std::vector<PointMatch> matches = matcher_->match(kf.features, features, job.left.size());
+    map_.read([&](const MapData& m) {
+      for (const auto& mt : matches) {
+        const Id pid = kf.point_ids[mt.a];
+        if (pid == kNoId || used_features[mt.b] || used_points.count(pid)) continue;
+        auto it = m.points.find(pid);
+        if (it == m.points.end()) continue;
+        pts.push_back(it->second.position);
+        px.push_back(to_eigen(features.points[mt.b]));
+        used_points.insert(pid);
+        used_features[mt.b] = 1;
+      }
+    });
+  }
   if (static_cast<int>(pts.size()) < min_inliers) {
-    spdlog::debug("frame {}: no relocalisation, {} matches with map points of keyframe {}", job.frame_index,
-                  pts.size(), relocalisation_keyframe_);
+    spdlog::debug("frame {}: no relocalisation, {} matches with map points of the last {} keyframes", job.frame_index,
+                  pts.size(), recent.size());
     return std::nullopt;
   }
   const PoseEstimate e = estimate_pose(camera_, pts, px, {}, std::nullopt, config_.geometry, config_.backend);
-  spdlog::debug("frame {}: relocalisation against keyframe {}: {} matches with map points, {} inliers{}",
-                job.frame_index, relocalisation_keyframe_, pts.size(), e.ok ? e.num_point_inliers : 0,
+  spdlog::debug("frame {}: relocalisation against the last {} keyframes: {} matches with map points, {} inliers{}",
+                job.frame_index, recent.size(), pts.size(), e.ok ? e.num_point_inliers : 0,
                 e.ok && e.num_point_inliers >= min_inliers ? "" : " (not used)");
   if (!e.ok || e.num_point_inliers < min_inliers) return std::nullopt;
   stats_.add_count("relocalisations");

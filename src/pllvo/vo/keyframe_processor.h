@@ -88,17 +88,24 @@ class KeyframeProcessor {
   /// Detection for the tracker's own use (monocular initialisation); not thread-safe with process().
   PointFeatures detect(const cv::Mat& image);
 
-  /// The next keyframe starts a new map segment (after a tracking loss); the last keyframe of
-  /// the segment that ends is where a stereo restart relocalises.
+  /// The next keyframe starts a new map segment (after a tracking loss); the last keyframes of
+  /// the segment that ends are where a restart relocalises.
   void start_segment();
+  /// Whether the segment before the latest loss can still resume (resume_segment).
+  bool can_resume() const { return !previous_segment_keyframes_.empty() && segment_keyframes_.empty(); }
+  /// Monocular restart (pose.mono_resume_max_s): when this frame's `features` relocalise
+  /// against the last keyframe before the loss, the segment before the loss resumes with this
+  /// frame as its next keyframe, so the map keeps its scale. result.ok is false otherwise.
+  KeyframeResult resume_segment(KeyframeJob job, PointFeatures features);
   int segment() const { return segment_; }
   const std::string& frontend_name() const { return frontend_name_; }
   std::string matcher_name() const { return matcher_->name(); }
 
  private:
   geometry::Pose current_pose(const KeyframeJob& job);
-  /// The pose of a segment's first keyframe against the last keyframe before the loss, when
-  /// enough of its matches' map points agree (pose.relocalise_min_inliers).
+  /// The pose of a segment's first keyframe against the last keyframes before the loss
+  /// (pose.relocalise_keyframes), when enough of its matches' map points agree
+  /// (pose.relocalise_min_inliers).
   std::optional<geometry::Pose> relocalise(const KeyframeJob& job, const PointFeatures& features);
   /// The first keyframe of a stereo segment: enough metric points and lines to start on.
   bool stereo_start_ok(const std::vector<std::optional<Eigen::Vector3d>>& stereo, int stereo_lines) const;
@@ -128,8 +135,11 @@ class KeyframeProcessor {
   PointTracker stereo_tracker_;
   std::unique_ptr<LineMapper> line_mapper_;  ///< null when lines are off
   int segment_ = 0;
+  int last_segment_ = 0;               ///< the highest segment number given out (a resumed one reuses its own)
   std::vector<Id> segment_keyframes_;  ///< keyframes of the current segment, oldest first
-  Id relocalisation_keyframe_ = kNoId;  ///< the last keyframe before the latest loss
+  int previous_segment_ = 0;           ///< the segment before the latest loss...
+  std::vector<Id> previous_segment_keyframes_;  ///< ...and its keyframes, until a new one starts or it resumes
+  std::vector<Id> relocalisation_keyframes_;  ///< the last keyframes before the latest loss, oldest first
 };
 
 }  // namespace pllvo::vo

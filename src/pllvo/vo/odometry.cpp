@@ -240,8 +240,9 @@ bool Odometry::initialize_stereo(const io::Frame& frame, const cv::Mat& left, co
   return true;
 }
 
-void Odometry::start_mono_reference(const io::Frame& frame, const cv::Mat& left) {
-  PointFeatures features = processor_.detect(left);
+void Odometry::start_mono_reference(const io::Frame& frame, const cv::Mat& left,
+                                    std::optional<PointFeatures> detected) {
+  PointFeatures features = detected ? std::move(*detected) : processor_.detect(left);
   if (static_cast<int>(features.size()) < config_.init.min_points) {
     spdlog::debug("frame {}: no monocular start: {} features (needs {})", frame.index, features.size(),
                   config_.init.min_points);
@@ -257,9 +258,28 @@ void Odometry::start_mono_reference(const io::Frame& frame, const cv::Mat& left)
   mono_->features = std::move(features);
 }
 
+bool Odometry::resume_mono(const io::Frame& frame, const cv::Mat& left, const ImagePyramid& pyramid,
+                           std::optional<PointFeatures>& detected) {
+  const double max_gap = config_.pose.mono_resume_max_s;
+  if (max_gap <= 0 || !processor_.can_resume() || frame.timestamp - last_tracked_time_ > max_gap) return false;
+  detected = processor_.detect(left);
+  KeyframeJob job = make_keyframe_job(frame, left, cv::Mat(), pyramid, KeyframeReason::kRelocalisation);
+  job.T_world_cam = restart_pose(frame.index, frame.timestamp);
+  const KeyframeResult result = processor_.resume_segment(job, *detected);
+  if (!result.ok) return false;
+  mono_.reset();
+  T_world_work_ = result.T_world_cam;
+  start_tracking(result, frame.timestamp);
+  spdlog::info("frame {}: relocalised in the map before the loss ({} points): monocular tracking resumes at its scale",
+               frame.index, count_mapped(tracks_));
+  return true;
+}
+
 bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, const ImagePyramid& pyramid) {
+  std::optional<PointFeatures> detected;
+  if (resume_mono(frame, left, pyramid, detected)) return true;
   if (!mono_ || previous_pyramid_.empty()) {
-    start_mono_reference(frame, left);
+    start_mono_reference(frame, left, std::move(detected));
     return false;
   }
   auto& ref = *mono_;
@@ -291,7 +311,7 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
                 frame.index, ref.frame_index, alive, ref.features.size(), median_flow, config_.init.min_points,
                 config_.init.mono_min_flow_px);
   if (alive < config_.init.min_points || ref.frames > static_cast<size_t>(config_.init.max_frames)) {
-    start_mono_reference(frame, left);
+    start_mono_reference(frame, left, std::move(detected));
     return false;
   }
   if (median_flow < config_.init.mono_min_flow_px) return false;

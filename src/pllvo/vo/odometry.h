@@ -86,7 +86,12 @@ class Odometry {
   bool initialize_stereo(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
                          const ImagePyramid& pyramid);
   bool initialize_mono(const io::Frame& frame, const cv::Mat& left, const ImagePyramid& pyramid);
-  void start_mono_reference(const io::Frame& frame, const cv::Mat& left);
+  /// A new monocular reference at this frame; `detected`: its features when already detected.
+  void start_mono_reference(const io::Frame& frame, const cv::Mat& left, std::optional<PointFeatures> detected);
+  /// pose.mono_resume_max_s: the map before the loss resumes at this frame when it relocalises
+  /// there; `detected` gets the frame's features whenever a try was made.
+  bool resume_mono(const io::Frame& frame, const cv::Mat& left, const ImagePyramid& pyramid,
+                   std::optional<PointFeatures>& detected);
   bool track(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right, const ImagePyramid& pyramid,
              FrameRecord& record);
   void maybe_make_keyframe(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,

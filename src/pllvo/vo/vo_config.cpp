@@ -83,6 +83,8 @@ void read_pose(const ConfigNode& n, PoseConfig& c) {
   n.get("min_inliers_with_prior", c.min_inliers_with_prior);
   n.get("extrapolate_gap_max_s", c.extrapolate_gap_max_s);
   n.get("relocalise_min_inliers", c.relocalise_min_inliers);
+  n.get("relocalise_keyframes", c.relocalise_keyframes);
+  n.get("mono_resume_max_s", c.mono_resume_max_s);
   n.reject_unknown_keys();
 }
 
@@ -208,6 +210,9 @@ void VoConfig::validate(const std::filesystem::path& file) const {
           "pose.extrapolate_gap_max_s", "must be >= 0 (0: off)");
   require(pose.relocalise_min_inliers == 0 || pose.relocalise_min_inliers >= 6, file, "pose.relocalise_min_inliers",
           "must be 0 (off) or at least 6");
+  require(pose.relocalise_keyframes >= 1, file, "pose.relocalise_keyframes", "must be at least 1");
+  require(pose.mono_resume_max_s >= 0 && std::isfinite(pose.mono_resume_max_s), file, "pose.mono_resume_max_s",
+          "must be >= 0 (0: off)");
   require(init.min_points >= 8, file, "init.min_points", "must be at least 8");
   require(mapping.matcher == "auto" || mapping.matcher == "lightglue" || mapping.matcher == "mnn", file,
           "mapping.matcher", "must be auto, lightglue or mnn");

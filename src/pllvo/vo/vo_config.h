@@ -124,7 +124,11 @@ struct KeyframePolicyConfig {
 /// The geometric thresholds (parallax, depths, epipolar error) are geometry.two_view and
 /// geometry.stereo.
 struct InitConfig {
-  int min_points = 50;            ///< tracked points needed to try
+  /// Features to open a monocular reference, points it must keep following, points the start
+  /// must triangulate. 35, not 50: in a sparse room (medium_lowtexture, 36-49 features a frame)
+  /// 50 dropped every reference before it had parallax, so the start came at frame 161 (78 now);
+  /// the other eleven sequences start where they did (docs/vo.md, session 14).
+  int min_points = 35;
   double mono_min_flow_px = 20.0; ///< median image motion before a two-view attempt
   int max_frames = 60;            ///< give up on a reference frame after this many frames
   /// Stereo points plus stereo lines needed for the first keyframe (of which at least
@@ -154,11 +158,20 @@ struct PoseConfig {
   /// gap, with the last orientation: the trajectory then does not jump back by the distance
   /// travelled during a short loss (0: at the last pose).
   double extrapolate_gap_max_s = 0.5;
-  /// A stereo map restarted after a loss first relocalises against the last keyframe before
-  /// the loss: its features matched with that keyframe's (the keyframe matcher), PnP + RANSAC
+  /// A stereo map restarted after a loss first relocalises against the last keyframes before
+  /// the loss: its features matched with theirs (the keyframe matcher), PnP + RANSAC
   /// on the map points of the matches. With at least this many inliers the new map starts at
   /// that pose, in the old map's frame; otherwise at restart_pose (0: never relocalise).
   int relocalise_min_inliers = 20;
+  /// Relocalisation matches with this many of the last keyframes before the loss and pools
+  /// their map points: one keyframe holds only the points it saw linked.
+  int relocalise_keyframes = 3;
+  /// A monocular camera that lost track tries, on every frame for this many seconds after
+  /// the last tracked one, to relocalise against the last keyframe before the loss (same
+  /// matcher, PnP and relocalise_min_inliers); when it does, the old map resumes with that
+  /// frame as its next keyframe and keeps its scale, instead of a two-view start at a new,
+  /// arbitrary scale. Each try costs one detection and one match (0: off).
+  double mono_resume_max_s = 2.0;
 };
 
 /// New keyframes: their features without a point matched with recent keyframes' points by
