@@ -263,8 +263,8 @@ bool Odometry::resume_mono(const io::Frame& frame, const cv::Mat& left, const Im
   const double max_gap = config_.pose.mono_resume_max_s;
   if (max_gap <= 0 || !processor_.can_resume() || frame.timestamp - last_tracked_time_ > max_gap) return false;
   detected = processor_.detect(left);
-  KeyframeJob job = make_keyframe_job(frame, left, cv::Mat(), pyramid, KeyframeReason::kRelocalisation);
-  job.T_world_cam = restart_pose(frame.index, frame.timestamp);
+  // The pose comes from the relocalisation itself.
+  const KeyframeJob job = make_keyframe_job(frame, left, cv::Mat(), pyramid, KeyframeReason::kRelocalisation);
   const KeyframeResult result = processor_.resume_segment(job, *detected);
   if (!result.ok) return false;
   mono_.reset();
