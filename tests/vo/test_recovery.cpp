@@ -146,7 +146,9 @@ TEST(Recovery, AMonocularMapResumesAtItsScaleAfterAShortGap) {
   EXPECT_EQ(restarted.resumed, 0);
   // Back on the first frame after the gap: every later frame has a pose.
   EXPECT_EQ(resumed.tracked_after, resumed.frames - 1 - last_black);
-  EXPECT_NEAR(resumed.scale_change, 1.0, 0.15);
+  // Measured 1.088. Monocular runs follow the CPU's SIMD paths in their last digits and then
+  // diverge (docs/vo.md, session 8), hence the margin; a new map's scale is unrelated (1.739 here).
+  EXPECT_NEAR(resumed.scale_change, 1.0, 0.2);
   EXPECT_GT(std::abs(std::log(restarted.scale_change)), std::abs(std::log(resumed.scale_change)));
   EXPECT_LT(resumed.ate_percent, restarted.ate_percent);
 }
