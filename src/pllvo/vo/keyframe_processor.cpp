@@ -69,8 +69,6 @@ PointFeatures KeyframeProcessor::detect(const cv::Mat& image) {
 
 void KeyframeProcessor::start_segment() {
   if (!segment_keyframes_.empty()) {
-    const size_t keep = std::min(segment_keyframes_.size(), static_cast<size_t>(config_.pose.relocalise_keyframes));
-    relocalisation_keyframes_.assign(segment_keyframes_.end() - static_cast<std::ptrdiff_t>(keep), segment_keyframes_.end());
     previous_segment_ = segment_;
     previous_segment_keyframes_ = std::move(segment_keyframes_);
   }
@@ -84,7 +82,6 @@ KeyframeResult KeyframeProcessor::resume_segment(KeyframeJob job, PointFeatures 
   if (!can_resume()) return result;
   const auto T = relocalise(job, features);
   if (!T) return result;
-  const int new_segment = segment_;
   segment_ = previous_segment_;
   segment_keyframes_ = std::move(previous_segment_keyframes_);
   previous_segment_keyframes_.clear();
@@ -94,13 +91,8 @@ KeyframeResult KeyframeProcessor::resume_segment(KeyframeJob job, PointFeatures 
   job.reason = KeyframeReason::kRelocalisation;
   DetectedKeyframe detected;
   detected.features = std::move(features);
+  // A keyframe that is not a segment's first is always added: the segment has resumed.
   result = process(job, std::move(detected));
-  if (!result.ok) {
-    previous_segment_keyframes_ = std::move(segment_keyframes_);
-    segment_keyframes_.clear();
-    segment_ = new_segment;
-    return result;
-  }
   result.relocalised = true;
   return result;
 }
@@ -174,13 +166,15 @@ geometry::Pose KeyframeProcessor::current_pose(const KeyframeJob& job) {
 
 std::optional<geometry::Pose> KeyframeProcessor::relocalise(const KeyframeJob& job, const PointFeatures& features) {
   const int min_inliers = config_.pose.relocalise_min_inliers;
-  if (min_inliers <= 0 || relocalisation_keyframes_.empty() || features.size() == 0) return std::nullopt;
+  if (min_inliers <= 0 || previous_segment_keyframes_.empty() || features.size() == 0) return std::nullopt;
   ScopedTimer t(stats_, "kf_relocalise");
   // Each of the last keyframes before the loss holds only the points it saw linked; pooled, they
   // hold more of the map around the loss. A feature and a point each count once (newest first).
+  const size_t count =
+      std::min(previous_segment_keyframes_.size(), static_cast<size_t>(config_.pose.relocalise_keyframes));
   std::vector<Keyframe> recent;
   map_.read([&](const MapData& m) {
-    for (auto id = relocalisation_keyframes_.rbegin(); id != relocalisation_keyframes_.rend(); ++id)
+    for (auto id = previous_segment_keyframes_.rbegin(); id != previous_segment_keyframes_.rbegin() + static_cast<std::ptrdiff_t>(count); ++id)
       if (auto it = m.keyframes.find(*id); it != m.keyframes.end()) recent.push_back(it->second);
   });
   std::vector<Eigen::Vector3d> pts;

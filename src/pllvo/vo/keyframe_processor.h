@@ -94,7 +94,7 @@ class KeyframeProcessor {
   /// Whether the segment before the latest loss can still resume (resume_segment).
   bool can_resume() const { return !previous_segment_keyframes_.empty() && segment_keyframes_.empty(); }
   /// Monocular restart (pose.mono_resume_max_s): when this frame's `features` relocalise
-  /// against the last keyframe before the loss, the segment before the loss resumes with this
+  /// against the last keyframes before the loss, the segment before the loss resumes with this
   /// frame as its next keyframe, so the map keeps its scale. result.ok is false otherwise.
   KeyframeResult resume_segment(KeyframeJob job, PointFeatures features);
   int segment() const { return segment_; }
@@ -138,8 +138,7 @@ class KeyframeProcessor {
   int last_segment_ = 0;               ///< the highest segment number given out (a resumed one reuses its own)
   std::vector<Id> segment_keyframes_;  ///< keyframes of the current segment, oldest first
   int previous_segment_ = 0;           ///< the segment before the latest loss...
-  std::vector<Id> previous_segment_keyframes_;  ///< ...and its keyframes, until a new one starts or it resumes
-  std::vector<Id> relocalisation_keyframes_;  ///< the last keyframes before the latest loss, oldest first
+  std::vector<Id> previous_segment_keyframes_;  ///< ...and its keyframes (oldest first), until it resumes
 };
 
 }  // namespace pllvo::vo

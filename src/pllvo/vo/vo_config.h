@@ -167,8 +167,8 @@ struct PoseConfig {
   /// their map points: one keyframe holds only the points it saw linked.
   int relocalise_keyframes = 3;
   /// A monocular camera that lost track tries, on every frame for this many seconds after
-  /// the last tracked one, to relocalise against the last keyframe before the loss (same
-  /// matcher, PnP and relocalise_min_inliers); when it does, the old map resumes with that
+  /// the last tracked one, to relocalise against the last keyframes before the loss (same
+  /// matcher, PnP, relocalise_keyframes and relocalise_min_inliers); when it does, the old map resumes with that
   /// frame as its next keyframe and keeps its scale, instead of a two-view start at a new,
   /// arbitrary scale. Each try costs one detection and one match (0: off).
   double mono_resume_max_s = 2.0;
