@@ -1,16 +1,14 @@
 // Throughput of the whole odometry (threaded, as `pllvo run`) over a rendered 752x480 stereo
 // sequence (easy_normal, 15 s, 301 frames at 20 Hz): frames per second and the per-module
 // split, for the default pipeline (`pllvo`: pllvo's own SuperPoint + LightGlue from models/,
-// networks on keyframes only, on the worker thread), the same without frames loaded ahead
-// (`pllvo_no_prefetch`), SuperPoint with the official weights and
+// networks on keyframes only, on the worker thread), SuperPoint with the official weights and
 // MNN (`superpoint_official_mnn`, needs ../shared) and the ORB front end (the baseline) side by
 // side in the same run.
 //
 //   build/bin/bench_vo                                   # renders the sequence into /tmp first
 //   PLLVO_BENCH_SEQUENCE=/data/synth/easy_normal build/bin/bench_vo --benchmark_repetitions=3
 //
-// Counters: fps (frames / wall time, image loading from disk included; load_ms is the time the
-// tracking thread waits for its frame, which the loader thread hides when a core is free), cpu_ms_per_frame
+// Counters: fps (frames / wall time, image loading from disk included), cpu_ms_per_frame
 // (process CPU time, all threads, per frame: what the run costs whatever the load), tracking_ms (the
 // per-frame work of the tracking thread, loading excluded), <module>_ms (mean per call) for
 // klt, line_tracking, pose; kf_<module>_ms per keyframe for detect (point extraction),
@@ -67,10 +65,9 @@ double mean_ms(const nlohmann::json& stats, const std::string& key) {
   return t.contains(key) ? t[key]["mean"].get<double>() : 0.0;
 }
 
-void BM_VoSequence(benchmark::State& state, const std::string& frontend, bool prefetch) {
+void BM_VoSequence(benchmark::State& state, const std::string& frontend) {
   vo::VoConfig config;
   config.frontend.type = frontend == "pllvo" ? "superpoint" : frontend;
-  if (!prefetch) config.run.prefetch_frames = 0;
   if (frontend == "superpoint") {
     // The official weights with MNN (docs/vo.md's measurement); pllvo's LightGlue in models/
     // was trained on pllvo's SuperPoint descriptors, not on these.
@@ -104,15 +101,9 @@ void BM_VoSequence(benchmark::State& state, const std::string& frontend, bool pr
 
 }  // namespace
 
-BENCHMARK_CAPTURE(BM_VoSequence, orb, std::string("orb"), true)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
-BENCHMARK_CAPTURE(BM_VoSequence, pllvo, std::string("pllvo"), true)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
-// The default with the tracking thread loading its own frames (run.prefetch_frames: 0), to
-// measure what the loader thread gives (docs/vo.md, session 15).
-BENCHMARK_CAPTURE(BM_VoSequence, pllvo_no_prefetch, std::string("pllvo"), false)
-    ->Unit(benchmark::kSecond)
-    ->Iterations(1)
-    ->UseRealTime();
-BENCHMARK_CAPTURE(BM_VoSequence, superpoint_official_mnn, std::string("superpoint"), true)
+BENCHMARK_CAPTURE(BM_VoSequence, orb, std::string("orb"))->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+BENCHMARK_CAPTURE(BM_VoSequence, pllvo, std::string("pllvo"))->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+BENCHMARK_CAPTURE(BM_VoSequence, superpoint_official_mnn, std::string("superpoint"))
     ->Unit(benchmark::kSecond)
     ->Iterations(1)
     ->UseRealTime();

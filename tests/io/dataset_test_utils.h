@@ -94,20 +94,6 @@ inline fs::path make_euroc_copy(const fs::path& dir, size_t frames, bool stereo 
   return dir;
 }
 
-/// An image-folder copy of the ECD fixture's first `frames` frames (camera.yaml, images.txt,
-/// the images). Returns the root.
-inline fs::path make_folder_copy(const fs::path& dir, size_t frames) {
-  const auto src = data_path("ecd_slider_hdr_close_149");
-  copy_into(src / "camera.yaml", dir / "camera.yaml");
-  const auto lines = read_lines(src / "images.txt");
-  write_lines(dir / "images.txt", {lines.begin(), lines.begin() + frames});
-  for (size_t i = 0; i < frames; ++i) {
-    const std::string rel = lines[i].substr(lines[i].find(' ') + 1);
-    copy_into(src / rel, dir / rel);
-  }
-  return dir;
-}
-
 /// Runs `fn`, expects an InputError and returns it (a default one after a test failure).
 inline pllvo::InputError expect_input_error(const std::function<void()>& fn) {
   try {

@@ -14,6 +14,19 @@ bool mentions(const pllvo::InputError& e, const std::string& text) {
   return std::string(e.what()).find(text) != std::string::npos;
 }
 
+/// ECD-style folder with `frames` images from the fixture and its images.txt lines.
+fs::path make_folder_copy(const fs::path& dir, size_t frames) {
+  const auto src = data_path("ecd_slider_hdr_close_149");
+  copy_into(src / "camera.yaml", dir / "camera.yaml");
+  const auto lines = read_lines(src / "images.txt");
+  write_lines(dir / "images.txt", {lines.begin(), lines.begin() + frames});
+  for (size_t i = 0; i < frames; ++i) {
+    const std::string rel = lines[i].substr(lines[i].find(' ') + 1);
+    copy_into(src / rel, dir / rel);
+  }
+  return dir;
+}
+
 }  // namespace
 
 TEST(SequenceBadInput, MissingDirectory) {

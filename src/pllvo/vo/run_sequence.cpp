@@ -9,7 +9,6 @@
 #include "pllvo/common/error.h"
 #include "pllvo/eval/eval_error.h"
 #include "pllvo/eval/evaluator.h"
-#include "pllvo/io/frame_prefetcher.h"
 #include "pllvo/vo/odometry.h"
 
 namespace pllvo::vo {
@@ -120,14 +119,12 @@ RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, co
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   auto last_progress = start;
-  // Declared after the odometry, so that an error stops the loader before the odometry goes.
-  io::FramePrefetcher frames(sequence, options.first_frame, end,
-                             config.run.threaded ? static_cast<size_t>(config.run.prefetch_frames) : 0);
   for (size_t i = options.first_frame; i < end; ++i) {
     io::Frame frame;
     {
-      ScopedTimer t(stats, "load");  // with prefetching: the time the tracker waits for its frame
-      frame = frames.next();
+      ScopedTimer t(stats, "load");
+      frame = sequence.frame(i);
+      frame.index = i;
     }
     odometry.process(frame);
     if (options.on_frame) options.on_frame(odometry.tracking_view());

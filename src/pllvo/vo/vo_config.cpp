@@ -126,7 +126,6 @@ void read_run(const ConfigNode& n, RunConfig& c) {
   n.get("starving_points", c.starving_points);
   n.get("network_threads", c.network_threads);
   n.get("keyframe_stages", c.keyframe_stages);
-  n.get("prefetch_frames", c.prefetch_frames);
   n.get("progress_interval_s", c.progress_interval_s);
   n.reject_unknown_keys();
 }
@@ -188,7 +187,6 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(run.network_threads >= 1 && run.network_threads <= 64, file, "run.network_threads", "must be in [1, 64]");
   require(run.starving_points >= 0, file, "run.starving_points", "must not be negative");
   require(run.keyframe_stages == 1 || run.keyframe_stages == 2, file, "run.keyframe_stages", "must be 1 or 2");
-  require(run.prefetch_frames >= 0 && run.prefetch_frames <= 64, file, "run.prefetch_frames", "must be in [0, 64]");
   require(klt.window_px >= 5 && klt.window_px % 2 == 1, file, "klt.window_px", "must be odd and >= 5");
   require(klt.levels >= 0 && klt.levels <= 6, file, "klt.levels", "must be in [0, 6]");
   require(klt.fb_threshold_px > 0, file, "klt.fb_threshold_px", "must be positive");

@@ -270,10 +270,6 @@ struct RunConfig {
   /// own, beside the previous keyframe's matching and bundle adjustment; 1 runs both on one
   /// keyframe thread. Single-thread runs do everything in order on the caller's thread.
   int keyframe_stages = 2;
-  /// Threaded runs: frames decoded ahead on a loader thread, so that image decoding (~10 ms
-  /// per 752x480 PNG pair) overlaps tracking (docs/vo.md, session 15). 0: the tracking thread
-  /// loads each frame itself, as single-thread runs always do.
-  int prefetch_frames = 2;
 };
 
 struct VoConfig {
