@@ -58,6 +58,7 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.run.network_threads, code.run.network_threads);
   EXPECT_EQ(file.run.keyframe_stages, code.run.keyframe_stages);
   EXPECT_EQ(file.run.starving_points, code.run.starving_points);
+  EXPECT_EQ(file.run.mono_starving_points, code.run.mono_starving_points);
   EXPECT_DOUBLE_EQ(file.pose.extrapolate_gap_max_s, code.pose.extrapolate_gap_max_s);
   EXPECT_EQ(file.pose.relocalise_min_inliers, code.pose.relocalise_min_inliers);
   EXPECT_DOUBLE_EQ(file.pose.mono_resume_max_s, code.pose.mono_resume_max_s);
@@ -105,13 +106,17 @@ TEST(VoConfig, ProjectionSearchIsReadAndChecked) {
 
 TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {
   const VoConfig c = VoConfig::load(write_yaml(
-      "speed", "frontend:\n  superpoint_conv_layout: nchw\nrun:\n  network_threads: 1\n  keyframe_stages: 1\n  starving_points: 25\n"
+      "speed", "frontend:\n  superpoint_conv_layout: nchw\nrun:\n  network_threads: 1\n  keyframe_stages: 1\n  starving_points: 25\n  mono_starving_points: 50\n"
                "mapping:\n  match_untracked_only: false\npose:\n  extrapolate_gap_max_s: 0.25\n  relocalise_min_inliers: 0\n"
                "  mono_resume_max_s: 1.5\n  relocalise_keyframes: 2\n"));
   EXPECT_EQ(c.frontend.superpoint_conv_layout, "nchw");
   EXPECT_EQ(c.run.network_threads, 1);
   EXPECT_EQ(c.run.keyframe_stages, 1);
   EXPECT_EQ(c.run.starving_points, 25);
+  EXPECT_EQ(c.run.mono_starving_points, 50);
+  // A monocular run waits by its own threshold; a stereo run keeps the common one.
+  EXPECT_EQ(c.for_mode(false).run.starving_points, 50);
+  EXPECT_EQ(c.for_mode(true).run.starving_points, 25);
   EXPECT_FALSE(c.mapping.match_untracked_only);
   EXPECT_DOUBLE_EQ(c.pose.extrapolate_gap_max_s, 0.25);
   EXPECT_EQ(c.pose.relocalise_min_inliers, 0);
@@ -125,7 +130,8 @@ TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {
       {"frontend:\n  superpoint_conv_layout: nhwc\n", "frontend.superpoint_conv_layout"},
       {"run:\n  network_threads: 0\n", "run.network_threads"},
       {"run:\n  keyframe_stages: 3\n", "run.keyframe_stages"},
-      {"run:\n  starving_points: -1\n", "run.starving_points"}};
+      {"run:\n  starving_points: -1\n", "run.starving_points"},
+      {"run:\n  mono_starving_points: -1\n", "run.mono_starving_points"}};
   for (const auto& [text, key] : bad) {
     try {
       VoConfig::load(write_yaml("badspeed", text));

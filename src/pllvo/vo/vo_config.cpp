@@ -124,6 +124,7 @@ void read_run(const ConfigNode& n, RunConfig& c) {
   n.get("threaded", c.threaded);
   n.get("wait_when_starving", c.wait_when_starving);
   n.get("starving_points", c.starving_points);
+  n.get("mono_starving_points", c.mono_starving_points);
   n.get("network_threads", c.network_threads);
   n.get("keyframe_stages", c.keyframe_stages);
   n.get("progress_interval_s", c.progress_interval_s);
@@ -145,6 +146,7 @@ VoConfig VoConfig::for_mode(bool stereo) const {
     angle = std::max(angle, mapping.mono_line_min_plane_angle_deg);
     auto& weight = c.backend.bundle_adjustment.line_weight;
     weight = std::min(weight, mapping.mono_ba_line_weight);
+    c.run.starving_points = run.mono_starving_points;
   }
   return c;
 }
@@ -186,6 +188,7 @@ void VoConfig::validate(const std::filesystem::path& file) const {
           problem + " (got '" + f.superpoint_conv_layout + "')");
   require(run.network_threads >= 1 && run.network_threads <= 64, file, "run.network_threads", "must be in [1, 64]");
   require(run.starving_points >= 0, file, "run.starving_points", "must not be negative");
+  require(run.mono_starving_points >= 0, file, "run.mono_starving_points", "must not be negative");
   require(run.keyframe_stages == 1 || run.keyframe_stages == 2, file, "run.keyframe_stages", "must be 1 or 2");
   require(klt.window_px >= 5 && klt.window_px % 2 == 1, file, "klt.window_px", "must be odd and >= 5");
   require(klt.levels >= 0 && klt.levels <= 6, file, "klt.levels", "must be in [0, 6]");

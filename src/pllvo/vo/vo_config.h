@@ -259,6 +259,12 @@ struct RunConfig {
   /// while the keyframe that the point rule asked for is processed; at that same count every
   /// point keyframe was waited for in full (docs/vo.md, session 12).
   int starving_points = 45;
+  /// The same for monocular runs, where it replaces starving_points: a monocular map's scale
+  /// lives on the points each keyframe triangulates, and a tracker that runs on while the
+  /// keyframe it asked for is processed makes the next keyframes too close for parallax
+  /// (ECD threaded: 47 frames tracked, 17.2 % ATE at 45; 56 frames, 2.60 % at 60, as a
+  /// single-thread run; docs/vo.md, session 15). Stereo maps get their depth from the pair.
+  int mono_starving_points = 60;
   double progress_interval_s = 2.0;  ///< wall time between progress lines (0: none)
   /// LibTorch + OpenBLAS threads for the networks on the keyframe worker (threaded runs; a
   /// single-thread run uses 1). Two made a quiet machine's run ~1.3x faster, but beside two
