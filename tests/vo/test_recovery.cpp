@@ -103,9 +103,9 @@ double scale_between(const io::Trajectory& est, const io::Trajectory& truth, dou
 }
 
 // A monocular map cannot relocalise by stereo: after the gap its frames try to relocalise
-// against the last keyframe before it (pose.mono_resume_max_s); the map then resumes at its
-// own scale, so the whole trajectory fits the truth under one Sim3, where a new two-view
-// start would begin a second map at another, arbitrary scale.
+// against the last keyframes before it (pose.mono_resume_max_s, pose.relocalise_keyframes); the
+// map then resumes at its own scale, so the whole trajectory fits the truth under one Sim3,
+// where a new two-view start would begin a second map at another, arbitrary scale.
 TEST(Recovery, AMonocularMapResumesAtItsScaleAfterAShortGap) {
   // The preset starts from rest: the two-view start comes at frame ~49 (2.5 s).
   const auto spec = testing::small_spec("easy_normal", 6.0, false);
