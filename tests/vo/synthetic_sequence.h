@@ -89,4 +89,23 @@ class BlackedOutSequence : public WrappedSequence {
   size_t first_, last_;
 };
 
+/// A sequence that skips `count` frames after frame `first` (a camera driver that dropped
+/// them): frame `first` shows what the inner frame `first + count` showed, at its time.
+class FrameDroppingSequence : public WrappedSequence {
+ public:
+  FrameDroppingSequence(std::unique_ptr<io::Sequence> inner, size_t first, size_t count)
+      : WrappedSequence(std::move(inner)), first_(first), count_(count) {
+    stamps_.erase(stamps_.begin() + static_cast<std::ptrdiff_t>(first),
+                  stamps_.begin() + static_cast<std::ptrdiff_t>(first + count));
+  }
+  io::Frame frame(size_t i) const override {
+    io::Frame f = WrappedSequence::frame(i < first_ ? i : i + count_);
+    f.index = i;
+    return f;
+  }
+
+ private:
+  size_t first_, count_;
+};
+
 }  // namespace pllvo::vo::testing

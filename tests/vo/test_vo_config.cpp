@@ -39,6 +39,7 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.init.max_frames, code.init.max_frames);
   EXPECT_EQ(file.init.stereo_min_points, code.init.stereo_min_points);
   EXPECT_EQ(file.pose.lost_frames_before_reset, code.pose.lost_frames_before_reset);
+  EXPECT_EQ(file.pose.stereo_restart_at_once, code.pose.stereo_restart_at_once);
   EXPECT_EQ(file.mapping.max_anchor_keyframes, code.mapping.max_anchor_keyframes);
   EXPECT_DOUBLE_EQ(file.mapping.mono_line_min_plane_angle_deg, code.mapping.mono_line_min_plane_angle_deg);
   EXPECT_DOUBLE_EQ(file.mapping.mono_ba_line_weight, code.mapping.mono_ba_line_weight);
@@ -108,12 +109,13 @@ TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {
   const VoConfig c = VoConfig::load(write_yaml(
       "speed", "frontend:\n  superpoint_conv_layout: nchw\nrun:\n  network_threads: 1\n  keyframe_stages: 1\n  starving_points: 25\n  mono_starving_points: 50\n"
                "mapping:\n  match_untracked_only: false\npose:\n  extrapolate_gap_max_s: 0.25\n  relocalise_min_inliers: 0\n"
-               "  mono_resume_max_s: 1.5\n  relocalise_keyframes: 2\n"));
+               "  mono_resume_max_s: 1.5\n  relocalise_keyframes: 2\n  stereo_restart_at_once: false\n"));
   EXPECT_EQ(c.frontend.superpoint_conv_layout, "nchw");
   EXPECT_EQ(c.run.network_threads, 1);
   EXPECT_EQ(c.run.keyframe_stages, 1);
   EXPECT_EQ(c.run.starving_points, 25);
   EXPECT_EQ(c.run.mono_starving_points, 50);
+  EXPECT_FALSE(c.pose.stereo_restart_at_once);
   // A monocular run waits by its own threshold; a stereo run keeps the common one.
   EXPECT_EQ(c.for_mode(false).run.starving_points, 50);
   EXPECT_EQ(c.for_mode(true).run.starving_points, 25);

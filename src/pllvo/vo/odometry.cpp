@@ -162,7 +162,7 @@ FrameRecord Odometry::process(const io::Frame& frame) {
 
   bool tracked = false;
   if (state_ == TrackingState::kTracking)
-    tracked = track(frame, left, right, pyramid, record);
+    tracked = track_or_restart(frame, left, right, pyramid, record);
   else
     tracked = initialize(frame, left, right, pyramid);
 
@@ -235,6 +235,7 @@ bool Odometry::initialize_stereo(const io::Frame& frame, const cv::Mat& left, co
   if (!result.ok) return false;
   T_world_work_ = result.T_world_cam;
   start_tracking(result, frame.timestamp);
+  start_relocalised_ = result.relocalised;
   spdlog::info("stereo initialisation at frame {}: {} points{}", frame.index, result.tracks.size(),
                result.relocalised ? ", relocalised in the map before the loss" : "");
   return true;
@@ -425,6 +426,21 @@ void Odometry::retrack_on_local_contrast(const cv::Mat& left, const std::vector<
   }
 }
 
+bool Odometry::track_or_restart(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
+                                const ImagePyramid& pyramid, FrameRecord& record) {
+  if (track(frame, left, right, pyramid, record)) return true;
+  handle_lost();
+  if (config_.pose.stereo_restart_at_once && rectifier_.stereo()) {
+    if (state_ == TrackingState::kTracking) reset();
+    start_relocalised_ = false;
+    if (initialize(frame, left, right, pyramid) && start_relocalised_) {
+      stats_.add_count("restarts_relocalised_at_once");
+      return true;  // the relocalised pose is this frame's
+    }
+  }
+  return false;
+}
+
 bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
                      const ImagePyramid& pyramid, FrameRecord& record) {
   const geometry::Pose T_world_pred =
@@ -559,7 +575,6 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
 
   if (!estimate.ok) {
     spdlog::debug("frame {}: pose failed ({} tracked points)", frame.index, pts.size());
-    handle_lost();
     return false;
   }
   const geometry::Pose T_world_cur = estimate.T_world_cam;

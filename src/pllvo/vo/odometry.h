@@ -92,6 +92,10 @@ class Odometry {
   /// there; `detected` gets the frame's features whenever a try was made.
   bool resume_mono(const io::Frame& frame, const cv::Mat& left, const ImagePyramid& pyramid,
                    std::optional<PointFeatures>& detected);
+  /// track(); when the pose fails, handle_lost() and (stereo, pose.stereo_restart_at_once) a
+  /// new map on this frame, which counts as tracked when it relocalised in the old one.
+  bool track_or_restart(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
+                        const ImagePyramid& pyramid, FrameRecord& record);
   bool track(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right, const ImagePyramid& pyramid,
              FrameRecord& record);
   void maybe_make_keyframe(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
@@ -170,6 +174,7 @@ class Odometry {
   std::optional<geometry::Pose> gap_velocity_;
   double frame_brightness_ = 0;  ///< mean grey level of the current left image before normalisation
   int resets_ = 0;
+  bool start_relocalised_ = false;  ///< the last map start was placed in the map before the loss
   geometry::Pose T_work_cam0_;
   std::unique_ptr<MonoReference> mono_;
 

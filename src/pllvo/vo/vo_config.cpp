@@ -79,6 +79,7 @@ void read_pose(const ConfigNode& n, PoseConfig& c) {
   n.get("use_lines", c.use_lines);
   n.get("use_motion_prior", c.use_motion_prior);
   n.get("lost_frames_before_reset", c.lost_frames_before_reset);
+  n.get("stereo_restart_at_once", c.stereo_restart_at_once);
   n.get("merge_gate_px", c.merge_gate_px);
   n.get("min_inliers_with_prior", c.min_inliers_with_prior);
   n.get("extrapolate_gap_max_s", c.extrapolate_gap_max_s);
