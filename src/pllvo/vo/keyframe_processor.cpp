@@ -115,22 +115,33 @@ std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::stereo_points(con
   StereoRowMatchConfig row;
   row.window_px = config_.klt.window_px;
   row.min_horizontal_share = config_.klt.stereo_min_horizontal_share;
+  int row_rejects = 0, depth_rejects = 0, matched = 0;
   for (size_t k = 0; k < which.size(); ++k) {
     if (!tr.ok[k]) continue;
     if (row.min_horizontal_share > 0) {
       const auto x = refine_along_row(job.left, job.right, pts[k], tr.points[k].x, row);
       if (!x) {
-        stats_.add_count("stereo_row_rejects");
+        ++row_rejects;
         continue;
       }
       tr.points[k] = cv::Point2f(*x, pts[k].y);
     }
     const auto p = triangulate_stereo(camera_, baseline_, to_eigen(pts[k]), to_eigen(tr.points[k]),
                                       config_.geometry.stereo);
-    if (!p) continue;
+    if (!p) {
+      ++depth_rejects;
+      continue;
+    }
+    ++matched;
     right_px[which[k]] = tr.points[k];
     if (ids[which[k]] == kNoId) out[which[k]] = p;
   }
+  if (row_rejects > 0) stats_.add_count("stereo_row_rejects", row_rejects);
+  spdlog::debug("frame {}: stereo depth for {} of {} features; lost: right-image LK {} (status {}, border {}, "
+                "forward-backward {}, appearance {}), row refinement {}, depth check {}", job.frame_index, matched,
+                pts.size(), tr.rejected.lk + tr.rejected.border + tr.rejected.forward_backward + tr.rejected.appearance,
+                tr.rejected.lk, tr.rejected.border, tr.rejected.forward_backward, tr.rejected.appearance, row_rejects,
+                depth_rejects);
   return out;
 }
 
