@@ -82,6 +82,7 @@ KeyframeResult KeyframeProcessor::resume_segment(KeyframeJob job, PointFeatures 
   if (!can_resume()) return result;
   const auto T = relocalise(job, features);
   if (!T) return result;
+  stats_.add_count("relocalisations");
   segment_ = previous_segment_;
   segment_keyframes_ = std::move(previous_segment_keyframes_);
   previous_segment_keyframes_.clear();
@@ -175,17 +176,23 @@ geometry::Pose KeyframeProcessor::current_pose(const KeyframeJob& job) {
   return e.ok ? e.T_world_cam : job.T_world_cam;
 }
 
-std::optional<geometry::Pose> KeyframeProcessor::relocalise(const KeyframeJob& job, const PointFeatures& features) {
+bool KeyframeProcessor::relocalises_in_segment(const KeyframeJob& job) {
+  if (config_.pose.relocalise_min_inliers <= 0 || segment_keyframes_.empty()) return false;
+  return relocalise(job, detect(job.left), segment_keyframes_).has_value();
+}
+
+std::optional<geometry::Pose> KeyframeProcessor::relocalise(const KeyframeJob& job, const PointFeatures& features,
+                                                            const std::vector<Id>& keyframes) {
   const int min_inliers = config_.pose.relocalise_min_inliers;
-  if (min_inliers <= 0 || previous_segment_keyframes_.empty() || features.size() == 0) return std::nullopt;
+  if (min_inliers <= 0 || keyframes.empty() || features.size() == 0) return std::nullopt;
   ScopedTimer t(stats_, "kf_relocalise");
   // Each of the last keyframes before the loss holds only the points it saw linked; pooled, they
   // hold more of the map around the loss. A feature and a point each count once (newest first).
   const size_t count =
-      std::min(previous_segment_keyframes_.size(), static_cast<size_t>(config_.pose.relocalise_keyframes));
+      std::min(keyframes.size(), static_cast<size_t>(config_.pose.relocalise_keyframes));
   std::vector<Keyframe> recent;
   map_.read([&](const MapData& m) {
-    for (auto id = previous_segment_keyframes_.rbegin(); id != previous_segment_keyframes_.rbegin() + static_cast<std::ptrdiff_t>(count); ++id)
+    for (auto id = keyframes.rbegin(); id != keyframes.rbegin() + static_cast<std::ptrdiff_t>(count); ++id)
       if (auto it = m.keyframes.find(*id); it != m.keyframes.end()) recent.push_back(it->second);
   });
   std::vector<Eigen::Vector3d> pts;
@@ -217,7 +224,6 @@ std::optional<geometry::Pose> KeyframeProcessor::relocalise(const KeyframeJob& j
                 job.frame_index, recent.size(), pts.size(), e.ok ? e.num_point_inliers : 0,
                 e.ok && e.num_point_inliers >= min_inliers ? "" : " (not used)");
   if (!e.ok || e.num_point_inliers < min_inliers) return std::nullopt;
-  stats_.add_count("relocalisations");
   return e.T_world_cam;
 }
 
@@ -397,7 +403,10 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
   // A first keyframe has no map points nor candidates yet: its pose is first used from here on
   // (stereo points into the world, lines), so a restart can still be placed in the old map.
   if (job.first && !job.right.empty()) {
-    if (const auto T = relocalise(job, features)) job.T_world_cam = *T, result.relocalised = true;
+    if (const auto T = relocalise(job, features)) {
+      job.T_world_cam = *T, result.relocalised = true;
+      stats_.add_count("relocalisations");
+    }
   }
 
   LinePlan line_plan;

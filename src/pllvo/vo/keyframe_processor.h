@@ -97,6 +97,10 @@ class KeyframeProcessor {
   /// against the last keyframes before the loss, the segment before the loss resumes with this
   /// frame as its next keyframe, so the map keeps its scale. result.ok is false otherwise.
   KeyframeResult resume_segment(KeyframeJob job, PointFeatures features);
+  /// Whether this frame relocalises against the last keyframes of the current segment
+  /// (pose.relocalise_*), i.e. whether a stereo restart on it would be placed in this map.
+  /// Detects its features; not thread-safe with process().
+  bool relocalises_in_segment(const KeyframeJob& job);
   int segment() const { return segment_; }
   const std::string& frontend_name() const { return frontend_name_; }
   std::string matcher_name() const { return matcher_->name(); }
@@ -106,7 +110,12 @@ class KeyframeProcessor {
   /// The pose of a segment's first keyframe against the last keyframes before the loss
   /// (pose.relocalise_keyframes), when enough of its matches' map points agree
   /// (pose.relocalise_min_inliers).
-  std::optional<geometry::Pose> relocalise(const KeyframeJob& job, const PointFeatures& features);
+  std::optional<geometry::Pose> relocalise(const KeyframeJob& job, const PointFeatures& features) {
+    return relocalise(job, features, previous_segment_keyframes_);
+  }
+  /// The same against `keyframes` (oldest first).
+  std::optional<geometry::Pose> relocalise(const KeyframeJob& job, const PointFeatures& features,
+                                           const std::vector<Id>& keyframes);
   /// The first keyframe of a stereo segment: enough metric points and lines to start on.
   bool stereo_start_ok(const std::vector<std::optional<Eigen::Vector3d>>& stereo, int stereo_lines) const;
   /// New points from the stereo pair for features without a map point; `right_px` gets the

@@ -430,13 +430,20 @@ bool Odometry::track_or_restart(const io::Frame& frame, const cv::Mat& left, con
                                 const ImagePyramid& pyramid, FrameRecord& record) {
   if (track(frame, left, right, pyramid, record)) return true;
   handle_lost();
-  if (config_.pose.stereo_restart_at_once && rectifier_.stereo()) {
-    if (state_ == TrackingState::kTracking) reset();
-    start_relocalised_ = false;
-    if (initialize(frame, left, right, pyramid) && start_relocalised_) {
-      stats_.add_count("restarts_relocalised_at_once");
-      return true;  // the relocalised pose is this frame's
-    }
+  if (!config_.pose.stereo_restart_at_once || !rectifier_.stereo()) return false;
+  if (state_ == TrackingState::kTracking) {
+    // Coasting on the tracks left sometimes gets the pose back a frame later in the same map,
+    // so the map is only given up for a restart that this frame places in it.
+    worker_.wait_idle();
+    worker_.rethrow_if_failed();
+    if (!processor_.relocalises_in_segment(make_keyframe_job(frame, left, right, pyramid, KeyframeReason::kNone)))
+      return false;
+    reset();
+  }
+  start_relocalised_ = false;
+  if (initialize(frame, left, right, pyramid) && start_relocalised_) {
+    stats_.add_count("restarts_relocalised_at_once");
+    return true;  // the relocalised pose is this frame's
   }
   return false;
 }

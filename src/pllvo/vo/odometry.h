@@ -93,7 +93,7 @@ class Odometry {
   bool resume_mono(const io::Frame& frame, const cv::Mat& left, const ImagePyramid& pyramid,
                    std::optional<PointFeatures>& detected);
   /// track(); when the pose fails, handle_lost() and (stereo, pose.stereo_restart_at_once) a
-  /// new map on this frame, which counts as tracked when it relocalised in the old one.
+  /// new map on this frame when it relocalises in the old one; it then counts as tracked.
   bool track_or_restart(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
                         const ImagePyramid& pyramid, FrameRecord& record);
   bool track(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right, const ImagePyramid& pyramid,

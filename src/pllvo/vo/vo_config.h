@@ -144,13 +144,14 @@ struct InitConfig {
 struct PoseConfig {
   bool use_lines = true;          ///< line residuals in the refinement
   bool use_motion_prior = true;   ///< predict with the last velocity (constant velocity)
-  /// Consecutive failures before re-initialising (monocular; stereo with stereo_restart_at_once off).
+  /// Consecutive failures before re-initialising (stereo: see stereo_restart_at_once).
   int lost_frames_before_reset = 3;
-  /// Stereo: a frame whose pose fails starts the new map on itself at once, relocalised in the
-  /// old map when its features match the last keyframes (pose.relocalise_*); such a frame counts
-  /// as tracked, with the relocalised pose. Coasting on the few tracks left rarely recovered a
-  /// stereo map: on easy_flicker a flicker step lost frames 154-156 in 2 of 10 threaded runs,
-  /// and frame 157 relocalised at once (docs/vo.md, session 16). Off: lost_frames_before_reset.
+  /// Stereo: a frame whose pose fails, and whose features relocalise against the map's last
+  /// keyframes (pose.relocalise_*), starts the new map on itself at once, placed in the old
+  /// one; it counts as tracked, with the relocalised pose. Otherwise the frame coasts on the
+  /// tracks left (lost_frames_before_reset), which sometimes gets the pose back in the same map.
+  /// On easy_flicker a flicker step lost frames 154-156 in 2 of 10 threaded runs, and frame 157
+  /// relocalised at once (docs/vo.md, session 16).
   bool stereo_restart_at_once = true;
   /// When a keyframe's points join the tracker, those whose map point projects farther than
   /// this (pixels) from the track at the latest pose are dropped (0: off). Late keyframes
