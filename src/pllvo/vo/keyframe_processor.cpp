@@ -176,9 +176,8 @@ geometry::Pose KeyframeProcessor::current_pose(const KeyframeJob& job) {
   return e.ok ? e.T_world_cam : job.T_world_cam;
 }
 
-bool KeyframeProcessor::relocalises_in_segment(const KeyframeJob& job) {
-  if (config_.pose.relocalise_min_inliers <= 0 || segment_keyframes_.empty()) return false;
-  return relocalise(job, detect(job.left), segment_keyframes_).has_value();
+bool KeyframeProcessor::relocalises_in_segment(const KeyframeJob& job, const PointFeatures& features) {
+  return relocalise(job, features, segment_keyframes_).has_value();
 }
 
 std::optional<geometry::Pose> KeyframeProcessor::relocalise(const KeyframeJob& job, const PointFeatures& features,

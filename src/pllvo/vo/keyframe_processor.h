@@ -97,10 +97,10 @@ class KeyframeProcessor {
   /// against the last keyframes before the loss, the segment before the loss resumes with this
   /// frame as its next keyframe, so the map keeps its scale. result.ok is false otherwise.
   KeyframeResult resume_segment(KeyframeJob job, PointFeatures features);
-  /// Whether this frame relocalises against the last keyframes of the current segment
-  /// (pose.relocalise_*), i.e. whether a stereo restart on it would be placed in this map.
-  /// Detects its features; not thread-safe with process().
-  bool relocalises_in_segment(const KeyframeJob& job);
+  /// Whether this frame's `features` relocalise against the last keyframes of the current
+  /// segment (pose.relocalise_*), i.e. whether a stereo restart on it would be placed in this
+  /// map. Not thread-safe with process().
+  bool relocalises_in_segment(const KeyframeJob& job, const PointFeatures& features);
   int segment() const { return segment_; }
   const std::string& frontend_name() const { return frontend_name_; }
   std::string matcher_name() const { return matcher_->name(); }

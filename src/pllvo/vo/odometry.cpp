@@ -202,13 +202,13 @@ TrackingView Odometry::tracking_view() const {
 // ---------------------------------------------------------------- initialisation
 
 bool Odometry::initialize(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
-                          const ImagePyramid& pyramid) {
+                          const ImagePyramid& pyramid, std::optional<DetectedKeyframe> detected, bool* relocalised) {
   ScopedTimer t(stats_, "init");
   if (frame_brightness_ < config_.init.min_brightness) {
     mono_.reset();
     return false;
   }
-  return rectifier_.stereo() ? initialize_stereo(frame, left, right, pyramid)
+  return rectifier_.stereo() ? initialize_stereo(frame, left, right, pyramid, std::move(detected), relocalised)
                              : initialize_mono(frame, left, pyramid);
 }
 
@@ -227,15 +227,17 @@ KeyframeJob Odometry::make_keyframe_job(const io::Frame& frame, const cv::Mat& l
 }
 
 bool Odometry::initialize_stereo(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
-                                 const ImagePyramid& pyramid) {
+                                 const ImagePyramid& pyramid, std::optional<DetectedKeyframe> detected,
+                                 bool* relocalised) {
   KeyframeJob job = make_keyframe_job(frame, left, right, pyramid, KeyframeReason::kInitialization);
   job.first = true;
   job.T_world_cam = restart_pose(frame.index, frame.timestamp);
-  const KeyframeResult result = processor_.process(job);
+  const KeyframeResult result =
+      detected ? processor_.process(job, std::move(*detected)) : processor_.process(job);
   if (!result.ok) return false;
   T_world_work_ = result.T_world_cam;
   start_tracking(result, frame.timestamp);
-  start_relocalised_ = result.relocalised;
+  if (relocalised) *relocalised = result.relocalised;
   spdlog::info("stereo initialisation at frame {}: {} points{}", frame.index, result.tracks.size(),
                result.relocalised ? ", relocalised in the map before the loss" : "");
   return true;
@@ -431,17 +433,21 @@ bool Odometry::track_or_restart(const io::Frame& frame, const cv::Mat& left, con
   if (track(frame, left, right, pyramid, record)) return true;
   handle_lost();
   if (!config_.pose.stereo_restart_at_once || !rectifier_.stereo()) return false;
+  std::optional<DetectedKeyframe> detected;
   if (state_ == TrackingState::kTracking) {
     // Coasting on the tracks left sometimes gets the pose back a frame later in the same map,
-    // so the map is only given up for a restart that this frame places in it.
+    // so the map is only given up for a restart that this frame places in it. The start
+    // below reuses the features detected for the try.
+    if (config_.pose.relocalise_min_inliers <= 0) return false;
     worker_.wait_idle();
     worker_.rethrow_if_failed();
-    if (!processor_.relocalises_in_segment(make_keyframe_job(frame, left, right, pyramid, KeyframeReason::kNone)))
-      return false;
+    const KeyframeJob job = make_keyframe_job(frame, left, right, pyramid, KeyframeReason::kNone);
+    detected = processor_.detect_keyframe(job);
+    if (!processor_.relocalises_in_segment(job, detected->features)) return false;
     reset();
   }
-  start_relocalised_ = false;
-  if (initialize(frame, left, right, pyramid) && start_relocalised_) {
+  bool relocalised = false;
+  if (initialize(frame, left, right, pyramid, std::move(detected), &relocalised) && relocalised) {
     stats_.add_count("restarts_relocalised_at_once");
     return true;  // the relocalised pose is this frame's
   }

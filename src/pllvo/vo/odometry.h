@@ -79,12 +79,15 @@ class Odometry {
     std::vector<std::pair<size_t, std::vector<cv::Point2f>>> history;
   };
 
-  bool initialize(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right, const ImagePyramid& pyramid);
+  /// A new map on this frame. Stereo: `detected` holds its features when already detected, and
+  /// `relocalised` (if given) tells whether the map was placed in the one before the loss.
+  bool initialize(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right, const ImagePyramid& pyramid,
+                  std::optional<DetectedKeyframe> detected = std::nullopt, bool* relocalised = nullptr);
   /// A keyframe job for this frame at the current pose (tracks and lines not filled in).
   KeyframeJob make_keyframe_job(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
                                 const ImagePyramid& pyramid, KeyframeReason reason) const;
   bool initialize_stereo(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
-                         const ImagePyramid& pyramid);
+                         const ImagePyramid& pyramid, std::optional<DetectedKeyframe> detected, bool* relocalised);
   bool initialize_mono(const io::Frame& frame, const cv::Mat& left, const ImagePyramid& pyramid);
   /// A new monocular reference at this frame; `detected`: its features when already detected.
   void start_mono_reference(const io::Frame& frame, const cv::Mat& left, std::optional<PointFeatures> detected);
@@ -174,7 +177,6 @@ class Odometry {
   std::optional<geometry::Pose> gap_velocity_;
   double frame_brightness_ = 0;  ///< mean grey level of the current left image before normalisation
   int resets_ = 0;
-  bool start_relocalised_ = false;  ///< the last map start was placed in the map before the loss
   geometry::Pose T_work_cam0_;
   std::unique_ptr<MonoReference> mono_;
 
