@@ -61,6 +61,8 @@ TEST(SynthSpec, ErrorsNameTheKey) {
   expect_key("duration_s: -1\n", "duration_s");
   expect_key("sensor:\n  max_gain: abc\n", "sensor.max_gain");
   expect_key("camera:\n  distortion: [1, 2, 3]\n", "camera.distortion");
+  expect_key("sensor:\n  supersample: 0\n", "sensor.supersample");
+  expect_key("sensor:\n  supersample: 5\n", "sensor.supersample");
   expect_key("preset: nonsense\n", "preset");
   expect_key("camera:\n  T_body_cam0: [2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]\n", "camera.T_body_cam0");
 }

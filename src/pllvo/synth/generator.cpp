@@ -55,8 +55,8 @@ void Generator::init() {
     off_ratio = radiance_[1].mean_radiance / std::max(radiance_[0].mean_radiance, 1e-12);
   }
   exposure_ = std::make_unique<ExposureSchedule>(spec_, off_ratio);
-  main_ = std::make_unique<Rasterizer>(lens_->ideal_view(), spec_.sensor.near_m);
-  scratch_ = std::make_unique<Rasterizer>(lens_->ideal_view(), spec_.sensor.near_m);
+  main_ = std::make_unique<Rasterizer>(lens_->ideal_view(), spec_.sensor.near_m, true, spec_.sensor.supersample);
+  scratch_ = std::make_unique<Rasterizer>(lens_->ideal_view(), spec_.sensor.near_m, true, spec_.sensor.supersample);
   flow_blur_ = std::make_unique<FlowBlur>(*lens_, spec_.sensor.blur_sample_px, spec_.sensor.blur_max_samples);
 }
 

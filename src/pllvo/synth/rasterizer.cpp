@@ -217,18 +217,72 @@ __attribute__((target("avx2"))) void shade_span_avx2(const Rasterizer::QuadShadi
 
 }  // namespace
 
-Rasterizer::Rasterizer(IdealView view, double near_m, bool simd) : view_(std::move(view)), near_(near_m) {
+Rasterizer::Rasterizer(IdealView view, double near_m, bool simd, int supersample)
+    : view_(std::move(view)), near_(near_m), factor_(supersample) {
   if (view_.width <= 0 || view_.height <= 0 || static_cast<int>(view_.drawn.first.size()) != view_.height + 1)
     throw InternalError("Rasterizer: malformed ideal view");
+  if (factor_ < 1 || factor_ > 4) throw InternalError("Rasterizer: supersample must be in [1, 4]");
   // Zero outside the drawn region once; render() clears only the drawn region.
   radiance_ = cv::Mat::zeros(view_.height, view_.width, CV_32F);
   inv_depth_ = cv::Mat::zeros(view_.height, view_.width, CV_32F);
   ids_ = cv::Mat(view_.height, view_.width, CV_32S, cv::Scalar(-1));
+  sample_view_ = view_;
+  if (factor_ == 1) {
+    sample_radiance_ = radiance_, sample_inv_depth_ = inv_depth_, sample_ids_ = ids_;
+  } else {
+    // Sample (i, j) of pixel (x, y) sits at x + (i + 0.5) / f - 0.5: the f x f grid centred on it.
+    const double f = factor_;
+    sample_view_.width *= factor_, sample_view_.height *= factor_;
+    sample_view_.fx *= f, sample_view_.fy *= f;
+    sample_view_.cx = f * view_.cx + (f - 1) / 2, sample_view_.cy = f * view_.cy + (f - 1) / 2;
+    sample_view_.drawn = sample_runs(view_.drawn);
+    sample_radiance_ = cv::Mat::zeros(sample_view_.height, sample_view_.width, CV_32F);
+    sample_inv_depth_ = cv::Mat::zeros(sample_view_.height, sample_view_.width, CV_32F);
+    sample_ids_ = cv::Mat(sample_view_.height, sample_view_.width, CV_32S, cv::Scalar(-1));
+  }
 #ifdef PLLVO_SYNTH_AVX2
   avx2_ = simd && __builtin_cpu_supports("avx2");
 #else
   (void)simd;
 #endif
+}
+
+RowRuns Rasterizer::sample_runs(const RowRuns& runs) const {
+  RowRuns r;
+  r.first.reserve(runs.first.size() * factor_);
+  for (size_t y = 0; y + 1 < runs.first.size(); ++y)
+    for (int i = 0; i < factor_; ++i) {
+      r.first.push_back(static_cast<int>(r.begin.size()));
+      for (int k = runs.first[y]; k < runs.first[y + 1]; ++k) {
+        r.begin.push_back(runs.begin[k] * factor_);
+        r.end.push_back(runs.end[k] * factor_);
+      }
+    }
+  r.first.push_back(static_cast<int>(r.begin.size()));
+  return r;
+}
+
+void Rasterizer::resolve(const RowRuns& runs) {
+  const int f = factor_;
+  const float inv_n = 1.0f / static_cast<float>(f * f);
+  for (int y = 0; y < view_.height; ++y)
+    for (int k = runs.first[y]; k < runs.first[y + 1]; ++k)
+      for (int x = runs.begin[k]; x < runs.end[k]; ++x) {
+        float sum = 0, nearest = 0;
+        int32_t id = -1;
+        for (int i = 0; i < f; ++i) {
+          const float* rad = sample_radiance_.ptr<float>(y * f + i) + x * f;
+          const float* zb = sample_inv_depth_.ptr<float>(y * f + i) + x * f;
+          const int32_t* ids = with_ids_ ? sample_ids_.ptr<int32_t>(y * f + i) + x * f : nullptr;
+          for (int j = 0; j < f; ++j) {
+            sum += rad[j];
+            if (zb[j] > nearest) nearest = zb[j], id = ids ? ids[j] : -1;
+          }
+        }
+        radiance_.at<float>(y, x) = sum * inv_n;
+        inv_depth_.at<float>(y, x) = nearest;
+        if (with_ids_) ids_.at<int32_t>(y, x) = id;
+      }
 }
 
 RowRuns RowRuns::from_mask(const cv::Mat& mask) {
@@ -263,20 +317,27 @@ void Rasterizer::render(const Scene& scene, const RadianceState& radiance, const
   with_ids_ = with_ids;
   const RowRuns& runs = pixels ? *pixels : view_.drawn;
   if (static_cast<int>(runs.first.size()) != view_.height + 1) throw InternalError("Rasterizer: runs of another view");
+  RowRuns scaled;
+  if (factor_ > 1 && pixels) scaled = sample_runs(runs);
+  const RowRuns& samples = factor_ == 1 ? runs : pixels ? scaled : sample_view_.drawn;
   // Clear only what is drawn: most of the cost here is memory traffic.
-  for (int y = 0; y < view_.height; ++y)
-    for (int k = runs.first[y]; k < runs.first[y + 1]; ++k) {
-      std::fill_n(radiance_.ptr<float>(y) + runs.begin[k], runs.end[k] - runs.begin[k], 0.0f);
-      std::fill_n(inv_depth_.ptr<float>(y) + runs.begin[k], runs.end[k] - runs.begin[k], 0.0f);
+  for (int y = 0; y < sample_view_.height; ++y)
+    for (int k = samples.first[y]; k < samples.first[y + 1]; ++k) {
+      std::fill_n(sample_radiance_.ptr<float>(y) + samples.begin[k], samples.end[k] - samples.begin[k], 0.0f);
+      std::fill_n(sample_inv_depth_.ptr<float>(y) + samples.begin[k], samples.end[k] - samples.begin[k], 0.0f);
     }
-  if (with_ids) ids_.setTo(-1);
+  if (with_ids) {
+    sample_ids_.setTo(-1);
+    if (factor_ > 1) ids_.setTo(-1);
+  }
   // Front to back, so that hidden pixels fail the depth test before their texture lookup.
   const Eigen::Vector3d eye = T_cam_world.inverse().translation();
   order_.clear();
   for (size_t i = 0; i < scene.quads.size(); ++i)
     if (scene.quads[i].faces(eye)) order_.emplace_back(distance_to_quad(scene.quads[i], eye), static_cast<int>(i));
   std::sort(order_.begin(), order_.end());
-  for (const auto& [dist, i] : order_) draw_quad(scene.quads[i], i, radiance.quads[i], T_cam_world, gain, runs);
+  for (const auto& [dist, i] : order_) draw_quad(scene.quads[i], i, radiance.quads[i], T_cam_world, gain, samples);
+  if (factor_ > 1) resolve(runs);
 }
 
 void Rasterizer::draw_quad(const Quad& quad, int index, const MipTexture& tex, const Eigen::Isometry3d& T_cam_world,
@@ -299,12 +360,12 @@ void Rasterizer::draw_quad(const Quad& quad, int index, const MipTexture& tex, c
   double xs[8], ys[8];
   double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
   for (int k = 0; k < n; ++k) {
-    const Eigen::Vector2d p = view_.project(poly[k]);
+    const Eigen::Vector2d p = sample_view_.project(poly[k]);
     xs[k] = p.x(), ys[k] = p.y();
     xmin = std::min(xmin, xs[k]), xmax = std::max(xmax, xs[k]);
     ymin = std::min(ymin, ys[k]), ymax = std::max(ymax, ys[k]);
   }
-  if (xmax < 0 || ymax < 0 || xmin > view_.width - 1 || ymin > view_.height - 1) return;
+  if (xmax < 0 || ymax < 0 || xmin > sample_view_.width - 1 || ymin > sample_view_.height - 1) return;
 
   // [S, T, 1] / z = A * [x, y, 1] for ideal pixel (x, y): the plane's homography, with S and
   // T in level-0 texels.
@@ -314,7 +375,7 @@ void Rasterizer::draw_quad(const Quad& quad, int index, const MipTexture& tex, c
   M.col(2) = P[0];
   if (std::abs(M.determinant()) < 1e-9 * quad.area() * P[0].norm()) return;  // seen edge-on
   Eigen::Matrix3d Kinv;
-  Kinv << 1 / view_.fx, 0, -view_.cx / view_.fx, 0, 1 / view_.fy, -view_.cy / view_.fy, 0, 0, 1;
+  Kinv << 1 / sample_view_.fx, 0, -sample_view_.cx / sample_view_.fx, 0, 1 / sample_view_.fy, -sample_view_.cy / sample_view_.fy, 0, 0, 1;
   Eigen::Matrix3d A = M.inverse() * Kinv;
   const MipLevel& base = tex.levels.at(0);
   A.row(0) *= base.cols;
@@ -340,7 +401,7 @@ void Rasterizer::draw_quad(const Quad& quad, int index, const MipTexture& tex, c
   }
 
   const int y0 = std::max(0, static_cast<int>(std::ceil(ymin)));
-  const int y1 = std::min(view_.height - 1, static_cast<int>(std::floor(ymax)));
+  const int y1 = std::min(sample_view_.height - 1, static_cast<int>(std::floor(ymax)));
   for (int y = y0; y <= y1; ++y) {
     // Span of pixel centres inside the convex polygon on this row.
     double xl = 1e300, xr = -1e300;
@@ -363,10 +424,10 @@ void Rasterizer::draw_quad(const Quad& quad, int index, const MipTexture& tex, c
       sp.s0 = static_cast<float>(A(0, 0) * sp.c0 + A(0, 1) * y + A(0, 2));
       sp.t0 = static_cast<float>(A(1, 0) * sp.c0 + A(1, 1) * y + A(1, 2));
       sp.w0 = static_cast<float>(A(2, 0) * sp.c0 + A(2, 1) * y + A(2, 2));
-      sp.row_end = view_.width;
-      sp.rad = radiance_.ptr<float>(y);
-      sp.zb = inv_depth_.ptr<float>(y);
-      sp.id = with_ids_ ? ids_.ptr<int32_t>(y) : nullptr;
+      sp.row_end = sample_view_.width;
+      sp.rad = sample_radiance_.ptr<float>(y);
+      sp.zb = sample_inv_depth_.ptr<float>(y);
+      sp.id = with_ids_ ? sample_ids_.ptr<int32_t>(y) : nullptr;
 #ifdef PLLVO_SYNTH_AVX2
       if (avx2_) {
         shade_span_avx2(q, sp, gain);

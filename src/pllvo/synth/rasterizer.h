@@ -3,6 +3,9 @@
 // facing the camera is clipped at the near plane, scan-converted (pixel centres inside the
 // polygon), and textured through the plane's homography with trilinear mip-mapping.
 // Inverse depth is linear in the pixel coordinates of a plane, so it is exact per pixel.
+// With supersampling each pixel is the mean of f x f samples: a camera pixel integrates light
+// over its area, and one sample at its centre draws stair steps along edges and broken dashes
+// along surfaces thinner than a pixel, corners that slide along the edge as the camera moves.
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -41,7 +44,8 @@ struct IdealView {
 class Rasterizer {
  public:
   /// `simd`: use AVX2 when the CPU has it (the scalar path gives the same image, slower).
-  Rasterizer(IdealView view, double near_m, bool simd = true);
+  /// `supersample`: samples per pixel side (1: one sample at the pixel centre).
+  Rasterizer(IdealView view, double near_m, bool simd = true, int supersample = 1);
 
   const IdealView& view() const { return view_; }
 
@@ -52,19 +56,29 @@ class Rasterizer {
   void render(const Scene& scene, const RadianceState& radiance, const Eigen::Isometry3d& T_cam_world,
               float gain, bool with_ids = true, const RowRuns* pixels = nullptr);
 
-  const cv::Mat& radiance() const { return radiance_; }        ///< CV_32F
-  const cv::Mat& inverse_depth() const { return inv_depth_; }  ///< CV_32F, 1/z; 0 where empty
-  const cv::Mat& quad_ids() const { return ids_; }  ///< CV_32S; -1 where empty (last render with ids)
+  const cv::Mat& radiance() const { return radiance_; }        ///< CV_32F, mean over the samples
+  /// CV_32F, 1/z; 0 where empty. Supersampled: of the nearest sample (the largest 1/z).
+  const cv::Mat& inverse_depth() const { return inv_depth_; }
+  /// CV_32S; -1 where empty (last render with ids). Supersampled: of the nearest sample.
+  const cv::Mat& quad_ids() const { return ids_; }
 
   struct QuadShading;  ///< per-quad shading constants (internal)
 
  private:
   void draw_quad(const Quad& quad, int index, const MipTexture& tex, const Eigen::Isometry3d& T_cam_world,
                  float gain, const RowRuns& pixels);
+  /// Pixels of `runs` (of view_) as runs of the sample grid.
+  RowRuns sample_runs(const RowRuns& runs) const;
+  /// Averages the samples of each pixel of `runs` into the output images.
+  void resolve(const RowRuns& runs);
 
   IdealView view_;
   double near_;
+  int factor_ = 1;
+  IdealView sample_view_;  ///< the view scaled by factor_ (view_ itself when 1)
+  RowRuns sample_drawn_;
   cv::Mat radiance_, inv_depth_, ids_;
+  cv::Mat sample_radiance_, sample_inv_depth_, sample_ids_;  ///< share the outputs' data when factor_ is 1
   std::vector<std::pair<double, int>> order_;
   bool avx2_ = false;
   bool with_ids_ = true;

@@ -90,6 +90,7 @@ void read_sensor(const ConfigNode& n, SensorSpec& s) {
   n.get("read_noise_e", s.read_noise_e);
   n.get("vignetting", s.vignetting);
   n.get("psf_sigma_px", s.psf_sigma_px);
+  n.get("supersample", s.supersample);
   n.get("motion_blur", s.motion_blur);
   n.get("blur_method", s.blur_method);
   n.get("blur_step_px", s.blur_step_px);
@@ -194,6 +195,7 @@ void validate(const SequenceSpec& s, const std::filesystem::path& file) {
   check(n.max_gain >= 1, "sensor.max_gain", "must be >= 1");
   check(n.vignetting >= 0 && n.vignetting <= 1, "sensor.vignetting", "must be in [0, 1]");
   check(n.psf_sigma_px >= 0 && n.psf_sigma_px <= 5, "sensor.psf_sigma_px", "must be in [0, 5]");
+  check(n.supersample >= 1 && n.supersample <= 4, "sensor.supersample", "must be in [1, 4]");
   check(n.blur_step_px > 0 && n.max_subframes >= 1 && n.max_subframes <= 64, "sensor.max_subframes",
         "needs blur_step_px > 0 and 1 <= max_subframes <= 64");
   check(n.blur_method == "flow" || n.blur_method == "renders", "sensor.blur_method",
@@ -316,6 +318,7 @@ std::string to_yaml(const SequenceSpec& s) {
   kv("read_noise_e", s.sensor.read_noise_e);
   kv("vignetting", s.sensor.vignetting);
   kv("psf_sigma_px", s.sensor.psf_sigma_px);
+  kv("supersample", s.sensor.supersample);
   kv("motion_blur", s.sensor.motion_blur);
   kv("blur_method", s.sensor.blur_method);
   kv("blur_step_px", s.sensor.blur_step_px);

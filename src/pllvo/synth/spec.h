@@ -69,6 +69,9 @@ struct SensorSpec {
   double read_noise_e = 6;
   double vignetting = 0.5;        ///< 0: none, 1: full cos^4 falloff
   double psf_sigma_px = 0.6;      ///< optical blur (Gaussian sigma in pixels); 0: none
+  /// Samples per pixel side (a pixel integrates over its area); 1: one at its centre, which
+  /// draws stair steps and broken dashes on edges: corners that no real camera sees.
+  int supersample = 1;
   bool motion_blur = true;
   /// "flow": a few renders, each averaged along every pixel's own image motion (fast);
   /// "renders": one full render per sub-exposure (the reference; 3-8x slower in low light).
