@@ -36,6 +36,7 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_DOUBLE_EQ(file.klt.denoise_min_noise, code.klt.denoise_min_noise);
   EXPECT_DOUBLE_EQ(file.klt.denoise_sigma_px, code.klt.denoise_sigma_px);
   EXPECT_DOUBLE_EQ(file.klt.stereo_min_horizontal_share, code.klt.stereo_min_horizontal_share);
+  EXPECT_DOUBLE_EQ(file.klt.stereo_min_signal_to_noise, code.klt.stereo_min_signal_to_noise);
   EXPECT_EQ(file.init.max_frames, code.init.max_frames);
   EXPECT_EQ(file.init.stereo_min_points, code.init.stereo_min_points);
   EXPECT_EQ(file.pose.lost_frames_before_reset, code.pose.lost_frames_before_reset);
@@ -222,6 +223,7 @@ TEST(VoConfig, OutOfRangeValueIsRejected) {
   EXPECT_THROW(VoConfig::load(write_yaml("blur", "klt:\n  denoise_sigma_px: 9\n")), InputError);
   EXPECT_THROW(VoConfig::load(write_yaml("noise", "klt:\n  denoise_min_noise: -1\n")), InputError);
   EXPECT_THROW(VoConfig::load(write_yaml("share", "klt:\n  stereo_min_horizontal_share: 1.5\n")), InputError);
+  EXPECT_THROW(VoConfig::load(write_yaml("snr", "klt:\n  stereo_min_signal_to_noise: -1\n")), InputError);
   EXPECT_THROW(VoConfig::load(write_yaml("parallax", "keyframes:\n  mono_min_candidate_parallax_deg: -1\n")),
                InputError);
 }

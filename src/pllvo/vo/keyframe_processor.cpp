@@ -116,6 +116,7 @@ std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::stereo_points(con
   StereoRowMatchConfig row;
   row.window_px = config_.klt.window_px;
   row.min_horizontal_share = config_.klt.stereo_min_horizontal_share;
+  row.min_signal_to_noise = config_.klt.stereo_min_signal_to_noise;
   int row_rejects = 0, depth_rejects = 0, matched = 0;
   for (size_t k = 0; k < which.size(); ++k) {
     if (!tr.ok[k]) continue;

@@ -46,6 +46,7 @@ void read_klt(const ConfigNode& n, KltConfig& c) {
   n.get("denoise_sigma_px", c.denoise_sigma_px);
   n.get("border_px", c.border_px);
   n.get("stereo_min_horizontal_share", c.stereo_min_horizontal_share);
+  n.get("stereo_min_signal_to_noise", c.stereo_min_signal_to_noise);
   n.reject_unknown_keys();
 }
 
@@ -236,6 +237,7 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(klt.min_ncc >= -1 && klt.min_ncc <= 1, file, "klt.min_ncc", "must be in [-1, 1]");
   require(klt.stereo_min_horizontal_share >= 0 && klt.stereo_min_horizontal_share < 1, file,
           "klt.stereo_min_horizontal_share", "must be in [0, 1) (0: off)");
+  require(klt.stereo_min_signal_to_noise >= 0, file, "klt.stereo_min_signal_to_noise", "must be >= 0 (0: off)");
 }
 
 }  // namespace pllvo::vo

@@ -85,6 +85,11 @@ struct KltConfig {
   /// horizontal gradient energy: points on near-horizontal edges, whose disparity 2-D LK gets
   /// wrong by pixels. 0: the 2-D match as it is.
   double stereo_min_horizontal_share = 0.03;
+  /// ... and those whose horizontal gradient energy is below this many times what the noise
+  /// left in the match would give alone (stereo_row_match.h): on a faint edge, noise picks the
+  /// disparity (session 17: 20-38 % depth errors on a ceiling edge of medium_lowtexture). Off:
+  /// in the dark it also drops half of the usable matches, and the suite did not improve. 0: off.
+  double stereo_min_signal_to_noise = 0.0;
 };
 
 /// Keyframe decision (paper 3.3). Every strategy can be switched off for ablations.
