@@ -374,8 +374,9 @@ void Rasterizer::draw_quad(const Quad& quad, int index, const MipTexture& tex, c
   M.col(1) = T_cam_world.linear() * quad.v;
   M.col(2) = P[0];
   if (std::abs(M.determinant()) < 1e-9 * quad.area() * P[0].norm()) return;  // seen edge-on
+  const IdealView& v = sample_view_;
   Eigen::Matrix3d Kinv;
-  Kinv << 1 / sample_view_.fx, 0, -sample_view_.cx / sample_view_.fx, 0, 1 / sample_view_.fy, -sample_view_.cy / sample_view_.fy, 0, 0, 1;
+  Kinv << 1 / v.fx, 0, -v.cx / v.fx, 0, 1 / v.fy, -v.cy / v.fy, 0, 0, 1;
   Eigen::Matrix3d A = M.inverse() * Kinv;
   const MipLevel& base = tex.levels.at(0);
   A.row(0) *= base.cols;

@@ -76,7 +76,6 @@ class Rasterizer {
   double near_;
   int factor_ = 1;
   IdealView sample_view_;  ///< the view scaled by factor_ (view_ itself when 1)
-  RowRuns sample_drawn_;
   cv::Mat radiance_, inv_depth_, ids_;
   cv::Mat sample_radiance_, sample_inv_depth_, sample_ids_;  ///< share the outputs' data when factor_ is 1
   std::vector<std::pair<double, int>> order_;

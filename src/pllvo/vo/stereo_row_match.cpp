@@ -60,7 +60,10 @@ std::optional<float> refine_along_row(const cv::Mat& left, const cv::Mat& right,
     const double step = num / gxx;
     x -= static_cast<float>(step);
     if (std::abs(x - x0) > config.max_shift_px) return std::nullopt;
-    if (std::abs(step) < 0.01) return signal_above_noise(right, x, left_px.y, tmpl, gxx, config) ? std::optional(x) : std::nullopt;
+    if (std::abs(step) < 0.01) {
+      if (!signal_above_noise(right, x, left_px.y, tmpl, gxx, config)) return std::nullopt;
+      return x;
+    }
   }
   return std::nullopt;
 }
