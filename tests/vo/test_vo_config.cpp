@@ -21,6 +21,8 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.frontend.type, code.frontend.type);
   EXPECT_EQ(file.frontend.max_points, code.frontend.max_points);
   EXPECT_DOUBLE_EQ(file.frontend.superpoint_input_scale, code.frontend.superpoint_input_scale);
+  EXPECT_DOUBLE_EQ(file.frontend.min_corner_ratio, code.frontend.min_corner_ratio);
+  EXPECT_DOUBLE_EQ(file.frontend.mono_min_corner_ratio, code.frontend.mono_min_corner_ratio);
   EXPECT_EQ(file.klt.window_px, code.klt.window_px);
   EXPECT_DOUBLE_EQ(file.klt.fb_threshold_px, code.klt.fb_threshold_px);
   EXPECT_EQ(file.keyframes.min_tracked_points, code.keyframes.min_tracked_points);
@@ -224,6 +226,15 @@ TEST(VoConfig, OutOfRangeValueIsRejected) {
   EXPECT_THROW(VoConfig::load(write_yaml("noise", "klt:\n  denoise_min_noise: -1\n")), InputError);
   EXPECT_THROW(VoConfig::load(write_yaml("share", "klt:\n  stereo_min_horizontal_share: 1.5\n")), InputError);
   EXPECT_THROW(VoConfig::load(write_yaml("snr", "klt:\n  stereo_min_signal_to_noise: -1\n")), InputError);
+  EXPECT_THROW(VoConfig::load(write_yaml("corner", "frontend:\n  min_corner_ratio: 1\n")), InputError);
+  EXPECT_THROW(VoConfig::load(write_yaml("monocorner", "frontend:\n  mono_min_corner_ratio: -0.1\n")), InputError);
+  // Stereo runs drop new edge points, monocular runs keep them unless asked.
+  const VoConfig corners =
+      VoConfig::load(write_yaml("corners", "frontend:\n  min_corner_ratio: 0.2\n  mono_min_corner_ratio: 0.05\n"));
+  EXPECT_DOUBLE_EQ(corners.for_mode(true).frontend.min_corner_ratio, 0.2);
+  EXPECT_DOUBLE_EQ(corners.for_mode(false).frontend.min_corner_ratio, 0.05);
+  EXPECT_DOUBLE_EQ(VoConfig().for_mode(false).frontend.min_corner_ratio, 0.0);
+  EXPECT_DOUBLE_EQ(VoConfig().for_mode(true).frontend.min_corner_ratio, 0.1);
   EXPECT_THROW(VoConfig::load(write_yaml("parallax", "keyframes:\n  mono_min_candidate_parallax_deg: -1\n")),
                InputError);
 }

@@ -64,7 +64,19 @@ KeyframeProcessor::KeyframeProcessor(const VoConfig& config, const Pinhole& came
 
 PointFeatures KeyframeProcessor::detect(const cv::Mat& image) {
   ScopedTimer t(stats_, "kf_detect");
-  return frontend_->detect(image);
+  return drop_edge_points(image, frontend_->detect(image));
+}
+
+PointFeatures KeyframeProcessor::drop_edge_points(const cv::Mat& image, PointFeatures features) {
+  const double min_ratio = config_.frontend.min_corner_ratio;
+  if (min_ratio <= 0) return features;
+  std::vector<int> keep;
+  for (int i = 0; i < static_cast<int>(features.size()); ++i) {
+    const bool tracked = !features.source.empty() && features.source[i] >= 0;
+    if (tracked || corner_ratio(image, features.points[i], config_.klt.window_px) >= min_ratio) keep.push_back(i);
+  }
+  stats_.add_count("edge_points_dropped", static_cast<int>(features.size() - keep.size()));
+  return features.select(keep);
 }
 
 void KeyframeProcessor::start_segment() {
@@ -271,7 +283,7 @@ DetectedKeyframe KeyframeProcessor::detect_keyframe(const KeyframeJob& job) {
   tracked.reserve(job.tracks.size());
   for (const auto& tp : job.tracks) tracked.push_back(tp.px);
   DetectedKeyframe detected;
-  detected.features = frontend_->detect(job.left, tracked);
+  detected.features = drop_edge_points(job.left, frontend_->detect(job.left, tracked));
   detected.detect_ms = t.elapsed_ms();
   return detected;
 }

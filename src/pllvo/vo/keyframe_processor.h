@@ -106,6 +106,9 @@ class KeyframeProcessor {
   std::string matcher_name() const { return matcher_->name(); }
 
  private:
+  /// frontend.min_corner_ratio: drops the new detections (not the tracked points) whose KLT
+  /// window is a plain edge.
+  PointFeatures drop_edge_points(const cv::Mat& image, PointFeatures features);
   geometry::Pose current_pose(const KeyframeJob& job);
   /// The pose of a segment's first keyframe against the last keyframes before the loss
   /// (pose.relocalise_keyframes), when enough of its matches' map points agree

@@ -104,6 +104,20 @@ double estimate_noise_sigma(const cv::Mat& image) {
   return std::sqrt(CV_PI / 2.0) * cv::norm(inner, cv::NORM_L1) / static_cast<double>(inner.total()) / 6.0;
 }
 
+double corner_ratio(const cv::Mat& image, cv::Point2f p, int size) {
+  cv::Mat w;
+  cv::getRectSubPix(image, cv::Size(size + 2, size + 2), p, w, CV_32F);
+  double gxx = 0, gyy = 0, gxy = 0;
+  for (int r = 1; r <= size; ++r)
+    for (int c = 1; c <= size; ++c) {
+      const double dx = 0.5 * (w.at<float>(r, c + 1) - w.at<float>(r, c - 1));
+      const double dy = 0.5 * (w.at<float>(r + 1, c) - w.at<float>(r - 1, c));
+      gxx += dx * dx, gyy += dy * dy, gxy += dx * dy;
+    }
+  const double mean = 0.5 * (gxx + gyy), spread = std::sqrt(0.25 * (gxx - gyy) * (gxx - gyy) + gxy * gxy);
+  return mean - spread > 0 && mean + spread > 0 ? (mean - spread) / (mean + spread) : 0.0;
+}
+
 double patch_ncc(const cv::Mat& a, cv::Point2f pa, const cv::Mat& b, cv::Point2f pb, int size) {
   cv::Mat patch_a, patch_b;
   cv::getRectSubPix(a, cv::Size(size, size), pa, patch_a, CV_32F);

@@ -26,6 +26,8 @@ void read_frontend(const ConfigNode& n, FrontendConfig& c) {
   n.get("superpoint_nms_radius", c.superpoint_nms_radius);
   n.get("superpoint_equalize", c.superpoint_equalize);
   n.get("superpoint_conv_layout", c.superpoint_conv_layout);
+  n.get("min_corner_ratio", c.min_corner_ratio);
+  n.get("mono_min_corner_ratio", c.mono_min_corner_ratio);
   n.get("equalize", c.equalize);
   n.reject_unknown_keys();
 }
@@ -149,6 +151,7 @@ VoConfig VoConfig::for_mode(bool stereo) const {
     auto& weight = c.backend.bundle_adjustment.line_weight;
     weight = std::min(weight, mapping.mono_ba_line_weight);
     c.run.starving_points = run.mono_starving_points;
+    c.frontend.min_corner_ratio = frontend.mono_min_corner_ratio;
   }
   return c;
 }
@@ -235,6 +238,10 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(ps.ratio > 0 && ps.ratio <= 1, file, "mapping.projection_search.ratio", "must be in (0, 1]");
   require(mapping.mono_point_min_parallax_deg >= 0, file, "mapping.mono_point_min_parallax_deg", "must not be negative");
   require(klt.min_ncc >= -1 && klt.min_ncc <= 1, file, "klt.min_ncc", "must be in [-1, 1]");
+  require(frontend.min_corner_ratio >= 0 && frontend.min_corner_ratio < 1, file, "frontend.min_corner_ratio",
+          "must be in [0, 1) (0: off)");
+  require(frontend.mono_min_corner_ratio >= 0 && frontend.mono_min_corner_ratio < 1, file,
+          "frontend.mono_min_corner_ratio", "must be in [0, 1) (0: off)");
   require(klt.stereo_min_horizontal_share >= 0 && klt.stereo_min_horizontal_share < 1, file,
           "klt.stereo_min_horizontal_share", "must be in [0, 1) (0: off)");
   require(klt.stereo_min_signal_to_noise >= 0, file, "klt.stereo_min_signal_to_noise", "must be >= 0 (0: off)");

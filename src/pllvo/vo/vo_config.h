@@ -43,6 +43,16 @@ struct FrontendConfig {
   /// Contrast stretching (CLAHE) before ORB / Shi-Tomasi detection helps in low light;
   /// tracking uses raw images.
   bool equalize = true;
+  /// New points whose KLT window (klt.window_px) has a structure tensor with smaller / larger
+  /// eigenvalue below this are dropped: a point on a plain straight edge slides along it from
+  /// frame to frame (the aperture problem), and on plain walls the detector keeps such points
+  /// (session 17: on medium_lowtexture, door-edge points moved 3-19 px against their
+  /// projection; threaded stereo difficult_lowlight over starts 0-3 2.12 -> 1.58 % ATE,
+  /// medium_lowtexture 5.22 -> 0.57 %). 0: off.
+  double min_corner_ratio = 0.1;
+  /// The same for monocular runs (for_mode): off, as fewer points cost the monocular start and
+  /// scale (medium_lowtexture starts at frame 159, easy_normal 0.74 -> 1.79 %).
+  double mono_min_corner_ratio = 0.0;
 };
 
 /// Pyramidal Lucas-Kanade tracking of keyframe points, frame to frame.
