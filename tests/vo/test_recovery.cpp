@@ -51,7 +51,9 @@ TEST(Recovery, BlackFramesAreAGapAndTrackingResumesAccurately) {
 // (pose.relocalise_min_inliers), else starts at the last pose moved on by the last speed
 // (pose.extrapolate_gap_max_s): either way the whole trajectory, both segments under one
 // alignment, follows the truth better than a restart at the last pose, which leaves the
-// motion of the gap out.
+// motion of the gap out. The speed is the mean over the last frames
+// (pose.extrapolate_velocity_frames): the last step alone carried this gap 0.124 m off, worse
+// than the restart in place (0.055 m), once the stereo front end dropped edge points.
 TEST(Recovery, TheTrajectoryStaysContinuousAcrossAShortGap) {
   const auto spec = testing::small_spec("easy_normal", 4.0, true);
   const size_t first_black = 35, last_black = 40;

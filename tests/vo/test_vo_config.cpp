@@ -64,6 +64,7 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.run.starving_points, code.run.starving_points);
   EXPECT_EQ(file.run.mono_starving_points, code.run.mono_starving_points);
   EXPECT_DOUBLE_EQ(file.pose.extrapolate_gap_max_s, code.pose.extrapolate_gap_max_s);
+  EXPECT_EQ(file.pose.extrapolate_velocity_frames, code.pose.extrapolate_velocity_frames);
   EXPECT_EQ(file.pose.relocalise_min_inliers, code.pose.relocalise_min_inliers);
   EXPECT_DOUBLE_EQ(file.pose.mono_resume_max_s, code.pose.mono_resume_max_s);
   EXPECT_EQ(file.pose.relocalise_keyframes, code.pose.relocalise_keyframes);
@@ -129,6 +130,7 @@ TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {
   EXPECT_EQ(c.pose.relocalise_keyframes, 2);
   const std::pair<const char*, const char*> bad[] = {
       {"pose:\n  extrapolate_gap_max_s: -0.1\n", "pose.extrapolate_gap_max_s"},
+      {"pose:\n  extrapolate_velocity_frames: 0\n", "pose.extrapolate_velocity_frames"},
       {"pose:\n  relocalise_min_inliers: 3\n", "pose.relocalise_min_inliers"},
       {"pose:\n  mono_resume_max_s: -1\n", "pose.mono_resume_max_s"},
       {"pose:\n  relocalise_keyframes: 0\n", "pose.relocalise_keyframes"},

@@ -596,6 +596,7 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   has_velocity_ = lost_frames_ == 0;
   T_world_work_ = T_world_cur;
   lost_frames_ = 0;
+  remember_position(frame.index, T_world_cur.translation());
   record.tracked_points = estimate.num_point_inliers;
   record.tracked_lines = estimate.num_line_inliers;
 
@@ -984,7 +985,13 @@ void Odometry::reset() {
   reference_angles_ = {};
   mono_.reset();
   state_ = TrackingState::kUninitialized;
-  gap_velocity_ = has_velocity_ ? std::optional<geometry::Pose>(velocity_) : std::nullopt;
+  gap_step_world_.reset();
+  if (recent_positions_.size() >= 2) {
+    const auto& [first, p_first] = recent_positions_.front();
+    const auto& [last, p_last] = recent_positions_.back();
+    gap_step_world_ = (p_last - p_first) / static_cast<double>(last - first);
+  }
+  recent_positions_.clear();
   has_velocity_ = false;
   lost_frames_ = 0;
   ++resets_;
@@ -997,17 +1004,23 @@ void Odometry::reset() {
 
 geometry::Pose Odometry::restart_pose(size_t frame_index, double timestamp) const {
   const double max_gap = config_.pose.extrapolate_gap_max_s;
-  if (!gap_velocity_ || max_gap <= 0 || frame_index <= last_tracked_index_ ||
+  if (!gap_step_world_ || max_gap <= 0 || frame_index <= last_tracked_index_ ||
       timestamp - last_tracked_time_ > max_gap)
     return T_world_work_;
   // Only the position is carried on: over a few frames the rotation rate of a swinging camera
   // changes more than its speed does (docs/vo.md, session 13), and the last orientation was the
   // better guess on the measured gaps.
-  geometry::Pose T = T_world_work_;
-  for (size_t i = last_tracked_index_; i < frame_index; ++i) T = T * *gap_velocity_;
   geometry::Pose start = T_world_work_;
-  start.translation() = T.translation();
+  start.translation() += static_cast<double>(frame_index - last_tracked_index_) * *gap_step_world_;
   return start;
+}
+
+void Odometry::remember_position(size_t frame_index, const Eigen::Vector3d& position) {
+  // Consecutive tracked frames only: a step across lost frames is not one frame's motion.
+  if (!recent_positions_.empty() && recent_positions_.back().first + 1 != frame_index) recent_positions_.clear();
+  recent_positions_.emplace_back(frame_index, position);
+  while (recent_positions_.size() > static_cast<size_t>(config_.pose.extrapolate_velocity_frames) + 1)
+    recent_positions_.pop_front();
 }
 
 // ---------------------------------------------------------------- results

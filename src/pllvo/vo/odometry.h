@@ -133,9 +133,11 @@ class Odometry {
   void handle_lost();
   void reset();
   /// Where a map started at `frame_index` (time `timestamp`) after a reset begins, unless it
-  /// relocalises: the last tracked pose, its position carried on by the velocity of its step
-  /// within pose.extrapolate_gap_max_s.
+  /// relocalises: the last tracked pose, its position carried on by the mean step of the frames
+  /// before it (pose.extrapolate_velocity_frames) within pose.extrapolate_gap_max_s.
   geometry::Pose restart_pose(size_t frame_index, double timestamp) const;
+  /// Keeps the positions of the last consecutive tracked frames for restart_pose.
+  void remember_position(size_t frame_index, const Eigen::Vector3d& position);
   geometry::Pose to_output(const geometry::Pose& T_world_work) const;
   /// Smooths both images when the left one's noise reaches klt.denoise_min_noise (low light).
   void denoise(cv::Mat& left, cv::Mat& right);
@@ -171,10 +173,12 @@ class Odometry {
   geometry::Pose velocity_ = geometry::Pose::Identity();  ///< T_prev_cur of the last tracked step
   bool has_velocity_ = false;
   int lost_frames_ = 0;
-  /// The last tracked frame, and the velocity of its step kept over a reset (restart_pose).
+  /// The last tracked frame, and the mean position step per frame before it, kept over a reset
+  /// (restart_pose), from the positions of the last consecutive tracked frames.
   size_t last_tracked_index_ = 0;
   double last_tracked_time_ = 0;
-  std::optional<geometry::Pose> gap_velocity_;
+  std::deque<std::pair<size_t, Eigen::Vector3d>> recent_positions_;
+  std::optional<Eigen::Vector3d> gap_step_world_;
   double frame_brightness_ = 0;  ///< mean grey level of the current left image before normalisation
   int resets_ = 0;
   geometry::Pose T_work_cam0_;

@@ -86,6 +86,7 @@ void read_pose(const ConfigNode& n, PoseConfig& c) {
   n.get("merge_gate_px", c.merge_gate_px);
   n.get("min_inliers_with_prior", c.min_inliers_with_prior);
   n.get("extrapolate_gap_max_s", c.extrapolate_gap_max_s);
+  n.get("extrapolate_velocity_frames", c.extrapolate_velocity_frames);
   n.get("relocalise_min_inliers", c.relocalise_min_inliers);
   n.get("relocalise_keyframes", c.relocalise_keyframes);
   n.get("mono_resume_max_s", c.mono_resume_max_s);
@@ -216,6 +217,7 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(pose.lost_frames_before_reset >= 1, file, "pose.lost_frames_before_reset", "must be at least 1");
   require(pose.extrapolate_gap_max_s >= 0 && std::isfinite(pose.extrapolate_gap_max_s), file,
           "pose.extrapolate_gap_max_s", "must be >= 0 (0: off)");
+  require(pose.extrapolate_velocity_frames >= 1, file, "pose.extrapolate_velocity_frames", "must be >= 1");
   require(pose.relocalise_min_inliers == 0 || pose.relocalise_min_inliers >= 6, file, "pose.relocalise_min_inliers",
           "must be 0 (off) or at least 6");
   require(pose.relocalise_keyframes >= 1, file, "pose.relocalise_keyframes", "must be at least 1");

@@ -182,6 +182,10 @@ struct PoseConfig {
   /// gap, with the last orientation: the trajectory then does not jump back by the distance
   /// travelled during a short loss (0: at the last pose).
   double extrapolate_gap_max_s = 0.5;
+  /// ... the velocity being the mean step over the last this many consecutive tracked frames:
+  /// one step's position is as noisy as its pose (session 17: with few points per frame, one
+  /// step carried a 4-frame gap 0.12 m off; 1: the last step alone).
+  int extrapolate_velocity_frames = 5;
   /// A stereo map restarted after a loss first relocalises against the last keyframes before
   /// the loss: its features matched with theirs (the keyframe matcher), PnP + RANSAC
   /// on the map points of the matches. With at least this many inliers the new map starts at
