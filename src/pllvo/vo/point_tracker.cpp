@@ -114,8 +114,7 @@ double corner_ratio(const cv::Mat& image, cv::Point2f p, int size) {
       const double dy = 0.5 * (w.at<float>(r + 1, c) - w.at<float>(r - 1, c));
       gxx += dx * dx, gyy += dy * dy, gxy += dx * dy;
     }
-  const double mean = 0.5 * (gxx + gyy), spread = std::sqrt(0.25 * (gxx - gyy) * (gxx - gyy) + gxy * gxy);
-  return mean - spread > 0 && mean + spread > 0 ? (mean - spread) / (mean + spread) : 0.0;
+  return lines::structure_tensor_ratio(gxx, gxy, gyy);
 }
 
 double patch_ncc(const cv::Mat& a, cv::Point2f pa, const cv::Mat& b, cv::Point2f pb, int size) {

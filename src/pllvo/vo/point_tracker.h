@@ -67,9 +67,8 @@ double estimate_noise_sigma(const cv::Mat& image);
 /// insensitive to gain and offset, so it holds across exposure changes.
 double patch_ncc(const cv::Mat& a, cv::Point2f pa, const cv::Mat& b, cv::Point2f pb, int size = 9);
 
-/// Smaller over larger eigenvalue of the structure tensor of the size x size window around a
-/// sub-pixel point: ~0 on a straight edge (motion along it is not in the image), up to 1 at a
-/// corner or blob; 0 on a flat window.
+/// lines::structure_tensor_ratio of the size x size window around a sub-pixel point of `image`
+/// (central differences; for detections, which have no pyramid derivatives yet).
 double corner_ratio(const cv::Mat& image, cv::Point2f p, int size);
 
 }  // namespace pllvo::vo

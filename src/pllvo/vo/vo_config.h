@@ -184,7 +184,7 @@ struct PoseConfig {
   double extrapolate_gap_max_s = 0.5;
   /// ... the velocity being the mean step over the last this many consecutive tracked frames:
   /// one step's position is as noisy as its pose (session 17: with few points per frame, one
-  /// step carried a 4-frame gap 0.12 m off; 1: the last step alone).
+  /// step carried a 6-frame gap 0.12 m off; 1: the last step alone).
   int extrapolate_velocity_frames = 5;
   /// A stereo map restarted after a loss first relocalises against the last keyframes before
   /// the loss: its features matched with theirs (the keyframe matcher), PnP + RANSAC

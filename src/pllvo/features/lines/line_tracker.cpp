@@ -26,10 +26,7 @@ double eigen_ratio(const cv::Mat& derivatives, const cv::Point2f& p, int window_
       a += dx * dx, b += dx * dy, c += dy * dy;
     }
   }
-  const double trace = a + c;
-  if (trace <= 0.0) return 0.0;
-  const double root = std::sqrt(std::max(0.0, 0.25 * (a - c) * (a - c) + b * b));
-  return (0.5 * trace - root) / (0.5 * trace + root);
+  return structure_tensor_ratio(a, b, c);
 }
 }  // namespace
 

@@ -3,11 +3,23 @@
 // built once per frame and shared by every tracker that uses it: frame k+1's pyramid is the
 // "next" pyramid now and becomes the "prev" pyramid at the following frame, so each frame's
 // pyramid and derivatives are computed exactly once.
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
 namespace pllvo::lines {
+
+/// Smaller over larger eigenvalue of a window's structure tensor [sxx sxy; sxy syy] (sums of
+/// gradient products): ~0 on a straight edge, where LK cannot see motion along it (the aperture
+/// problem), up to 1 at a corner or blob; 0 on a flat window.
+inline double structure_tensor_ratio(double sxx, double sxy, double syy) {
+  const double trace = sxx + syy;
+  if (trace <= 0.0) return 0.0;
+  const double root = std::sqrt(std::max(0.0, 0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy));
+  return (0.5 * trace - root) / (0.5 * trace + root);
+}
 
 class OpticalFlowPyramid {
  public:
