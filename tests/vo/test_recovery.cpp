@@ -106,6 +106,8 @@ TEST(Recovery, AStereoFrameThatLosesItsPoseRelocalisesAtOnce) {
               VoConfig().pose.lost_frames_before_reset, later.tracked_frames, later.frames,
               later.error ? later.error->rmse_m : -1.0);
   EXPECT_EQ(relocalised_now, 1);
+  // The try that decides the restart and the restart's first keyframe share one relocalisation.
+  EXPECT_EQ(now.stats["timing_ms"]["kf_relocalise"].value("count", 0), 1);
   EXPECT_EQ(now.resets, 1);
   EXPECT_EQ(now.tracked_frames, now.frames);
   EXPECT_TRUE(now.lost.empty());

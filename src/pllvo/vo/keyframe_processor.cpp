@@ -189,8 +189,9 @@ geometry::Pose KeyframeProcessor::current_pose(const KeyframeJob& job) {
   return e.ok ? e.T_world_cam : job.T_world_cam;
 }
 
-bool KeyframeProcessor::relocalises_in_segment(const KeyframeJob& job, const PointFeatures& features) {
-  return relocalise(job, features, segment_keyframes_).has_value();
+bool KeyframeProcessor::relocalise_in_segment(const KeyframeJob& job, DetectedKeyframe& detected) {
+  detected.relocalised_T_world_cam = relocalise(job, detected.features, segment_keyframes_);
+  return detected.relocalised_T_world_cam.has_value();
 }
 
 std::optional<geometry::Pose> KeyframeProcessor::relocalise(const KeyframeJob& job, const PointFeatures& features,
@@ -291,6 +292,7 @@ DetectedKeyframe KeyframeProcessor::detect_keyframe(const KeyframeJob& job) {
 KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, DetectedKeyframe detected) {
   ScopedTimer total(stats_, "kf_total", detected.detect_ms);
   PointFeatures features = std::move(detected.features);
+  const std::optional<geometry::Pose> relocalised = detected.relocalised_T_world_cam;
   KeyframeJob job = original_job;
   job.T_world_cam = current_pose(original_job);
   KeyframeResult result;
@@ -415,7 +417,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
   // A first keyframe has no map points nor candidates yet: its pose is first used from here on
   // (stereo points into the world, lines), so a restart can still be placed in the old map.
   if (job.first && !job.right.empty()) {
-    if (const auto T = relocalise(job, features)) {
+    if (const auto T = relocalised ? relocalised : relocalise(job, features)) {
       job.T_world_cam = *T, result.relocalised = true;
       stats_.add_count("relocalisations");
     }

@@ -62,6 +62,9 @@ struct KeyframeResult {
 struct DetectedKeyframe {
   PointFeatures features;
   double detect_ms = 0;  ///< counted in the keyframe's total time (kf_total)
+  /// Set by KeyframeProcessor::relocalise_in_segment: a restart's first keyframe takes this
+  /// pose instead of matching the same keyframes a second time.
+  std::optional<geometry::Pose> relocalised_T_world_cam;
 };
 
 class KeyframeProcessor {
@@ -97,10 +100,10 @@ class KeyframeProcessor {
   /// against the last keyframes before the loss, the segment before the loss resumes with this
   /// frame as its next keyframe, so the map keeps its scale. result.ok is false otherwise.
   KeyframeResult resume_segment(KeyframeJob job, PointFeatures features);
-  /// Whether this frame's `features` relocalise against the last keyframes of the current
+  /// Whether this frame's features relocalise against the last keyframes of the current
   /// segment (pose.relocalise_*), i.e. whether a stereo restart on it would be placed in this
-  /// map. Not thread-safe with process().
-  bool relocalises_in_segment(const KeyframeJob& job, const PointFeatures& features);
+  /// map; the pose is kept in `detected` for that restart. Not thread-safe with process().
+  bool relocalise_in_segment(const KeyframeJob& job, DetectedKeyframe& detected);
   int segment() const { return segment_; }
   const std::string& frontend_name() const { return frontend_name_; }
   std::string matcher_name() const { return matcher_->name(); }

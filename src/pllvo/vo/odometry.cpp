@@ -443,7 +443,7 @@ bool Odometry::track_or_restart(const io::Frame& frame, const cv::Mat& left, con
     worker_.rethrow_if_failed();
     const KeyframeJob job = make_keyframe_job(frame, left, right, pyramid, KeyframeReason::kNone);
     detected = processor_.detect_keyframe(job);
-    if (!processor_.relocalises_in_segment(job, detected->features)) return false;
+    if (!processor_.relocalise_in_segment(job, *detected)) return false;
     reset();
   }
   bool relocalised = false;
