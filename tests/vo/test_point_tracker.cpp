@@ -216,9 +216,6 @@ TEST(PointTracker, BlankImagesTrackNothingAndDoNotThrow) {
   EXPECT_EQ(r.rejected.lk, static_cast<int>(pts.size()));  // no gradient: LK itself refuses
 }
 
-}  // namespace
-}  // namespace pllvo::vo
-
 TEST(PointTracker, CornerRatioTellsCornersFromPlainEdges) {
   // Bright quadrant x > 100, y > 80 on a dark ground, smoothed like a camera image, plus noise.
   cv::Mat img(160, 200, CV_8U, cv::Scalar(60));
@@ -230,13 +227,16 @@ TEST(PointTracker, CornerRatioTellsCornersFromPlainEdges) {
   img.convertTo(noisy, CV_16S);
   noisy += noise;
   noisy.convertTo(img, CV_8U);
-  const double corner = pllvo::vo::corner_ratio(img, {100, 80}, 21);
-  const double vertical_edge = pllvo::vo::corner_ratio(img, {100, 130}, 21);
-  const double horizontal_edge = pllvo::vo::corner_ratio(img, {160, 80}, 21);
+  const double corner = corner_ratio(img, {100, 80}, 21);
+  const double vertical_edge = corner_ratio(img, {100, 130}, 21);
+  const double horizontal_edge = corner_ratio(img, {160, 80}, 21);
   EXPECT_GT(corner, 0.2);
   EXPECT_LT(vertical_edge, 0.05);
   EXPECT_LT(horizontal_edge, 0.05);
   // On a flat patch only the noise is left: isotropic, so the ratio is large but says nothing
   // about edges; a flat window without noise has no gradient at all.
-  EXPECT_EQ(pllvo::vo::corner_ratio(cv::Mat(50, 50, CV_8U, cv::Scalar(90)), {25, 25}, 21), 0.0);
+  EXPECT_EQ(corner_ratio(cv::Mat(50, 50, CV_8U, cv::Scalar(90)), {25, 25}, 21), 0.0);
 }
+
+}  // namespace
+}  // namespace pllvo::vo
