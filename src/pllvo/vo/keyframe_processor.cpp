@@ -292,7 +292,6 @@ DetectedKeyframe KeyframeProcessor::detect_keyframe(const KeyframeJob& job) {
 KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, DetectedKeyframe detected) {
   ScopedTimer total(stats_, "kf_total", detected.detect_ms);
   PointFeatures features = std::move(detected.features);
-  const std::optional<geometry::Pose> relocalised = detected.relocalised_T_world_cam;
   KeyframeJob job = original_job;
   job.T_world_cam = current_pose(original_job);
   KeyframeResult result;
@@ -417,7 +416,8 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
   // A first keyframe has no map points nor candidates yet: its pose is first used from here on
   // (stereo points into the world, lines), so a restart can still be placed in the old map.
   if (job.first && !job.right.empty()) {
-    if (const auto T = relocalised ? relocalised : relocalise(job, features)) {
+    const std::optional<geometry::Pose>& known = detected.relocalised_T_world_cam;  // restart decided on this frame
+    if (const auto T = known ? known : relocalise(job, features)) {
       job.T_world_cam = *T, result.relocalised = true;
       stats_.add_count("relocalisations");
     }
