@@ -93,9 +93,11 @@ TEST(Initialisation, StereoStartsOnTheFirstFrameAtMetricScale) {
   EXPECT_NEAR(est / truth, 1.0, 0.07);
   ASSERT_TRUE(s.error.has_value());
   EXPECT_EQ(s.error->align, "se3");
-  // Measured (session 2): 0.016 m = 2.2 % of 0.74 m at half the EuRoC resolution (f = 229 px).
-  EXPECT_LT(s.error->rmse_m, 0.025);
-  EXPECT_LT(s.error->percent_of_path, 3.0);
+  // Measured (session 2): 0.016 m = 2.2 % of 0.74 m at half the EuRoC resolution (f = 229 px);
+  // 0.025 m = 3.4 % since session 20's working view "fit" spans the whole distorted image with
+  // f = 178 / 209 px at this resolution (docs/vo.md).
+  EXPECT_LT(s.error->rmse_m, 0.032);
+  EXPECT_LT(s.error->percent_of_path, 4.3);
 }
 
 }  // namespace

@@ -8,25 +8,33 @@
 
 namespace pllvo::vo {
 
-FrameRectifier::FrameRectifier(const io::Calibration& calibration, bool use_stereo) : calib_(calibration) {
+camera::WorkingView parse_working_view(const std::string& name) {
+  if (name == "calibrated") return camera::WorkingView::calibrated;
+  if (name == "whole") return camera::WorkingView::whole;
+  if (name == "fit") return camera::WorkingView::fit;
+  throw InternalError("unknown working view '" + name + "'");
+}
+
+FrameRectifier::FrameRectifier(const io::Calibration& calibration, bool use_stereo, camera::WorkingView view)
+    : calib_(calibration) {
   if (!calibration.cam0) throw InputError("calibration has no camera");
   const auto& cam0 = *calibration.cam0;
   if (use_stereo) {
     if (!calibration.cam1) throw InputError("stereo requested but the calibration has one camera only");
     rectifier_ = std::make_unique<camera::StereoRectifier>(calibration.cam0, calibration.cam1,
-                                                           calibration.T_body_cam0, calibration.T_body_cam1);
+                                                           calibration.T_body_cam0, calibration.T_body_cam1, view);
     const auto& k = rectifier_->rectified_intrinsics();
-    camera_ = {k.fx, k.fy, k.cx, k.cy, rectifier_->size().width, rectifier_->size().height};
+    camera_ = {k.fx, k.fy, k.cx, k.cy, rectifier_->view_size().width, rectifier_->view_size().height};
     T_cam0_work_ = geometry::make_pose(rectifier_->R_rect_cam(0).transpose(), Eigen::Vector3d::Zero());
     return;
   }
-  const auto& k = cam0.intrinsics();
-  camera_ = {k.fx, k.fy, k.cx, k.cy, cam0.width(), cam0.height()};
   const auto d = cam0.distortion();
   const bool distorted = std::any_of(d.begin(), d.end(), [](double v) { return v != 0.0; });
-  if (distorted)
-    cam0.undistort_rectify_map(k, cv::Size(cam0.width(), cam0.height()), Eigen::Matrix3d::Identity(), map_x_,
-                               map_y_);
+  const camera::PinholeView v =
+      camera::working_view({&cam0}, {Eigen::Matrix3d::Identity()}, cam0.intrinsics(),
+                           cv::Size(cam0.width(), cam0.height()), distorted ? view : camera::WorkingView::calibrated);
+  camera_ = {v.K.fx, v.K.fy, v.K.cx, v.K.cy, v.size.width, v.size.height};
+  if (distorted) cam0.undistort_rectify_map(v.K, v.size, Eigen::Matrix3d::Identity(), map_x_, map_y_);
 }
 
 double FrameRectifier::baseline() const { return rectifier_ ? rectifier_->baseline() : 0.0; }

@@ -4,6 +4,7 @@
 // which the line detector needs, and every later stage can use a plain pinhole model.
 #include <memory>
 #include <optional>
+#include <string>
 
 #include <opencv2/core.hpp>
 
@@ -14,10 +15,16 @@
 
 namespace pllvo::vo {
 
+/// "calibrated" | "whole" | "fit" (VoConfig's frontend.working_view); InternalError otherwise
+/// (the config was validated).
+camera::WorkingView parse_working_view(const std::string& name);
+
 class FrameRectifier {
  public:
-  /// `use_stereo`: rectify the pair (needs cam1); otherwise only cam0 is used.
-  FrameRectifier(const io::Calibration& calibration, bool use_stereo);
+  /// `use_stereo`: rectify the pair (needs cam1); otherwise only cam0 is used. `view`: how much
+  /// of a distorted image the working view keeps (camera::WorkingView).
+  FrameRectifier(const io::Calibration& calibration, bool use_stereo,
+                 camera::WorkingView view = camera::WorkingView::calibrated);
 
   bool stereo() const { return rectifier_ != nullptr; }
   const Pinhole& camera() const { return camera_; }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <set>
 
+#include <spdlog/spdlog.h>
+
 #include "pllvo/features/lines/cross_constraint.h"
 
 namespace pllvo::vo {
@@ -157,6 +159,17 @@ LinePlan LineMapper::plan(const cv::Mat& image, const geometry::Pose& T_world_ca
     }
   }
   if (!right.empty() && baseline > 0 && config_.stereo.enabled) triangulate_stereo(image, right, baseline, T_world_cam, plan);
+  if (spdlog::should_log(spdlog::level::debug)) {
+    int mapped = 0, candidates = 0, triangulated = 0;
+    for (size_t j = 0; j < m; ++j) {
+      mapped += plan.ids[j] != kNoId;
+      candidates += plan.ids[j] == kNoId && !views[j].empty();
+      triangulated += plan.triangulated[j].has_value();
+    }
+    spdlog::debug("line plan: {} detected, {} from tracks, {} from the previous keyframe; {} map lines kept, {} "
+                  "candidates with earlier views, {} triangulated ({} by stereo)",
+                  m, plan.from_tracks, plan.from_association, mapped, candidates, triangulated, plan.from_stereo);
+  }
   return plan;
 }
 

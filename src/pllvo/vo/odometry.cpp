@@ -75,7 +75,8 @@ std::vector<int> associate_by_position(const std::vector<lines::LineSegment>& ex
 Odometry::Odometry(const VoConfig& config, const io::Calibration& calibration, bool use_stereo, RunStats& stats)
     : config_(config.for_mode(use_stereo && calibration.stereo())),
       stats_(stats),
-      rectifier_(calibration, use_stereo && calibration.stereo()),
+      rectifier_(calibration, use_stereo && calibration.stereo(),
+                 parse_working_view(config_.frontend.working_view)),
       camera_(rectifier_.camera()),
       tracker_(config_.klt),
       use_lines_(config_.pipeline.lines),
@@ -88,6 +89,8 @@ Odometry::Odometry(const VoConfig& config, const io::Calibration& calibration, b
   // The networks run on the keyframe worker beside tracking; a single-thread run stays on one.
   if (processor_.frontend_name() == "superpoint")
     nn::set_num_threads(config_.run.threaded ? config_.run.network_threads : 1);
+  spdlog::debug("working view {}x{}: fx {:.1f} fy {:.1f} cx {:.1f} cy {:.1f}", camera_.width, camera_.height, camera_.fx,
+                camera_.fy, camera_.cx, camera_.cy);
   T_work_cam0_ = rectifier_.T_cam0_work().inverse();
   // The world frame is cam0 of the first initialised frame.
   T_world_work_ = rectifier_.T_cam0_work();

@@ -10,6 +10,8 @@ namespace {
 
 void read_frontend(const ConfigNode& n, FrontendConfig& c) {
   n.get("type", c.type);
+  n.get("working_view", c.working_view);
+  n.get("mono_working_view", c.mono_working_view);
   n.get("max_points", c.max_points);
   n.get("grid_cols", c.grid_cols);
   n.get("grid_rows", c.grid_rows);
@@ -85,6 +87,8 @@ void read_pose(const ConfigNode& n, PoseConfig& c) {
   n.get("stereo_restart_at_once", c.stereo_restart_at_once);
   n.get("merge_gate_px", c.merge_gate_px);
   n.get("min_inliers_with_prior", c.min_inliers_with_prior);
+  n.get("stereo_pnp_min_inliers", c.stereo_pnp_min_inliers);
+  n.get("stereo_min_inliers_with_prior", c.stereo_min_inliers_with_prior);
   n.get("extrapolate_gap_max_s", c.extrapolate_gap_max_s);
   n.get("extrapolate_velocity_frames", c.extrapolate_velocity_frames);
   n.get("relocalise_min_inliers", c.relocalise_min_inliers);
@@ -146,6 +150,10 @@ void require(bool ok, const std::filesystem::path& file, const std::string& key,
 VoConfig VoConfig::for_mode(bool stereo) const {
   VoConfig c = *this;
   if (!stereo && !pipeline.lines_in_mono) c.pipeline.lines = false;
+  if (stereo) {
+    c.geometry.pnp.min_inliers = pose.stereo_pnp_min_inliers;
+    c.pose.min_inliers_with_prior = pose.stereo_min_inliers_with_prior;
+  }
   if (!stereo) {
     auto& angle = c.geometry.line_triangulation.min_plane_angle_deg;
     angle = std::max(angle, mapping.mono_line_min_plane_angle_deg);
@@ -153,6 +161,7 @@ VoConfig VoConfig::for_mode(bool stereo) const {
     weight = std::min(weight, mapping.mono_ba_line_weight);
     c.run.starving_points = run.mono_starving_points;
     c.frontend.min_corner_ratio = frontend.mono_min_corner_ratio;
+    c.frontend.working_view = frontend.mono_working_view;
   }
   return c;
 }
@@ -183,6 +192,10 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   const auto& f = frontend;
   require(f.type == "auto" || f.type == "superpoint" || f.type == "orb" || f.type == "shitomasi", file,
           "frontend.type", "must be auto, superpoint, orb or shitomasi (got '" + f.type + "')");
+  for (const auto& [key, view] : {std::pair{"frontend.working_view", f.working_view},
+                                  std::pair{"frontend.mono_working_view", f.mono_working_view}})
+    require(view == "calibrated" || view == "whole" || view == "fit", file, key,
+            "must be calibrated, whole or fit (got '" + view + "')");
   require(f.max_points > 0, file, "frontend.max_points", "must be positive");
   require(f.grid_cols > 0 && f.grid_rows > 0, file, "frontend.grid_cols", "grid must be at least 1x1");
   require(f.superpoint_input_scale > 0 && f.superpoint_input_scale <= 1, file,
@@ -220,6 +233,8 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(pose.extrapolate_velocity_frames >= 1, file, "pose.extrapolate_velocity_frames", "must be >= 1");
   require(pose.relocalise_min_inliers == 0 || pose.relocalise_min_inliers >= 6, file, "pose.relocalise_min_inliers",
           "must be 0 (off) or at least 6");
+  require(pose.stereo_pnp_min_inliers >= 4, file, "pose.stereo_pnp_min_inliers", "must be at least 4 (PnP's minimal set + 1)");
+  require(pose.stereo_min_inliers_with_prior >= 0, file, "pose.stereo_min_inliers_with_prior", "must not be negative (0: off)");
   require(pose.relocalise_keyframes >= 1, file, "pose.relocalise_keyframes", "must be at least 1");
   require(pose.mono_resume_max_s >= 0 && std::isfinite(pose.mono_resume_max_s), file, "pose.mono_resume_max_s",
           "must be >= 0 (0: off)");

@@ -14,6 +14,16 @@ namespace pllvo::vo {
 /// Point detection + description on keyframes (paper 3.1). One of three front ends.
 struct FrontendConfig {
   std::string type = "auto";  ///< auto (superpoint if weights are found, else orb) | superpoint | orb | shitomasi
+  /// Working view of a distorted camera (camera::WorkingView): "calibrated" keeps the calibration's
+  /// focal lengths and image size, and EuRoC's barrel distortion then crops ~15 % of the raw
+  /// width (a door frame at the side of a plain room); "fit" shrinks the focal lengths (EuRoC:
+  /// 458 -> 356 / 418 px) so the same image spans the raw image from side to side; "whole" keeps
+  /// them and enlarges the image (968 x 526), slower and, threaded, 4.7-5.1 % on stereo
+  /// difficult_lowlight in two runs against 1.6-2.3 % with "fit" (docs/vo.md, session 20).
+  std::string working_view = "fit";
+  /// The same for monocular runs ("fit", one start over the suite: medium_lowlight 3.45 -> 1.02 %,
+  /// but easy_flicker 0.85 -> 4.18 % and difficult_normal 1.07 -> 6.07 %; docs/vo.md, session 20).
+  std::string mono_working_view = "calibrated";
   int max_points = 400;      ///< per keyframe; 300-500 keeps PnP well conditioned at low cost
   /// Detection is spread over a grid so points do not cluster on one textured patch.
   int grid_cols = 8;
@@ -147,8 +157,9 @@ struct InitConfig {
   double mono_min_flow_px = 20.0; ///< median image motion before a two-view attempt
   int max_frames = 60;            ///< give up on a reference frame after this many frames
   /// Stereo points plus stereo lines needed for the first keyframe (of which at least
-  /// geometry.pnp.min_inliers points: PnP seeds the next frames' poses).
-  int stereo_min_points = 30;
+  /// pose.stereo_pnp_min_inliers points: PnP seeds the next frames' poses). 30 until session
+  /// 20: medium_lowtexture then started at frame 41-49.
+  int stereo_min_points = 12;
   /// No map is started on a frame darker than this mean grey level: there, what the
   /// contrast-stretched detector finds is mostly sensor noise.
   double min_brightness = 10.0;
@@ -177,6 +188,13 @@ struct PoseConfig {
   /// When PnP / the refinement fail for want of points, a pose is still accepted from the
   /// motion prior plus at least this many agreeing observations (points + lines); 0: off.
   int min_inliers_with_prior = 5;
+  /// Stereo runs: these replace geometry.pnp.min_inliers and min_inliers_with_prior. In a plain
+  /// room (medium_lowtexture) frames 20-35 see 5-20 points and few lines; with 10 / 5 frames
+  /// 23-34 were lost, with 6 / 4 (and init.stereo_min_points 12, the working view "fit") none is.
+  /// With 3 agreeing observations a frame after a 0.6 s jump kept a pose 0.1 m off instead of
+  /// relocalising (Recovery.AStereoFrameThatLosesItsPoseRelocalisesAtOnce; docs/vo.md, session 20).
+  int stereo_pnp_min_inliers = 6;
+  int stereo_min_inliers_with_prior = 4;
   /// After a reset, a new map started within this many seconds of the last tracked pose (and
   /// not relocalised) starts at that pose moved on by the last velocity's translation over the
   /// gap, with the last orientation: the trajectory then does not jump back by the distance
