@@ -33,6 +33,13 @@ bool is_identity_map(const cv::Mat& map_x, const cv::Mat& map_y) {
 }
 }  // namespace
 
+std::optional<WorkingView> working_view_named(const std::string& name) {
+  if (name == "calibrated") return WorkingView::calibrated;
+  if (name == "whole") return WorkingView::whole;
+  if (name == "fit") return WorkingView::fit;
+  return std::nullopt;
+}
+
 PinholeView working_view(const std::vector<const CameraModel*>& cameras, const std::vector<Eigen::Matrix3d>& R_view_cam,
                          const PinholeIntrinsics& calibrated, cv::Size size, WorkingView view) {
   if (view == WorkingView::calibrated) return {calibrated, size};

@@ -1,6 +1,8 @@
 #pragma once
 // Rectification of a calibrated stereo pair into two ideal pinhole views with
 // parallel optical axes and horizontal epipolar lines (disparity along x only).
+#include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -18,6 +20,9 @@ enum class WorkingView {
   whole,       ///< the calibration's focal lengths, the image enlarged to span the raw image side to side
   fit,         ///< the image size kept, the focal lengths shrunk until it spans the raw image
 };
+
+/// "calibrated" | "whole" | "fit"; nothing for any other name.
+std::optional<WorkingView> working_view_named(const std::string& name);
 
 struct PinholeView {
   PinholeIntrinsics K;

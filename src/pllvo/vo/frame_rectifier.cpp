@@ -9,9 +9,7 @@
 namespace pllvo::vo {
 
 camera::WorkingView parse_working_view(const std::string& name) {
-  if (name == "calibrated") return camera::WorkingView::calibrated;
-  if (name == "whole") return camera::WorkingView::whole;
-  if (name == "fit") return camera::WorkingView::fit;
+  if (const auto view = camera::working_view_named(name)) return *view;
   throw InternalError("unknown working view '" + name + "'");
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pllvo/camera/stereo_rectifier.h"
 #include "pllvo/nn/superpoint.h"
 
 namespace pllvo::vo {
@@ -153,8 +154,7 @@ VoConfig VoConfig::for_mode(bool stereo) const {
   if (stereo) {
     c.geometry.pnp.min_inliers = pose.stereo_pnp_min_inliers;
     c.pose.min_inliers_with_prior = pose.stereo_min_inliers_with_prior;
-  }
-  if (!stereo) {
+  } else {
     auto& angle = c.geometry.line_triangulation.min_plane_angle_deg;
     angle = std::max(angle, mapping.mono_line_min_plane_angle_deg);
     auto& weight = c.backend.bundle_adjustment.line_weight;
@@ -194,7 +194,7 @@ void VoConfig::validate(const std::filesystem::path& file) const {
           "frontend.type", "must be auto, superpoint, orb or shitomasi (got '" + f.type + "')");
   for (const auto& [key, view] : {std::pair{"frontend.working_view", f.working_view},
                                   std::pair{"frontend.mono_working_view", f.mono_working_view}})
-    require(view == "calibrated" || view == "whole" || view == "fit", file, key,
+    require(camera::working_view_named(view).has_value(), file, key,
             "must be calibrated, whole or fit (got '" + view + "')");
   require(f.max_points > 0, file, "frontend.max_points", "must be positive");
   require(f.grid_cols > 0 && f.grid_rows > 0, file, "frontend.grid_cols", "grid must be at least 1x1");
