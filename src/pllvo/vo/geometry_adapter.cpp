@@ -124,6 +124,30 @@ bool baseline_subtends(const std::vector<geometry::Pose>& T_world_views, const g
   return depth > 0 && 2.0 * std::atan2(0.5 * widest, depth) >= min_parallax_deg * M_PI / 180.0;
 }
 
+double median_reprojection_px(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
+                              const std::vector<Eigen::Vector2d>& pixels, const geometry::Pose& T_world_cam) {
+  const geometry::Pose T_cam_world = T_world_cam.inverse();
+  std::vector<double> errors;
+  for (size_t i = 0; i < points_world.size() && i < pixels.size(); ++i) {
+    Eigen::Vector2d uv;
+    errors.push_back(cam.project(T_cam_world * points_world[i], uv) ? (uv - pixels[i]).norm() : 1e9);
+  }
+  return median(std::move(errors));
+}
+
+std::optional<geometry::Pose> follow_keyframe_adjustment(const Pinhole& cam,
+                                                         const std::vector<Eigen::Vector3d>& points_world,
+                                                         const std::vector<Eigen::Vector2d>& pixels,
+                                                         const geometry::Pose& T_world_current,
+                                                         const geometry::Pose& T_world_added,
+                                                         const geometry::Pose& T_world_adjusted, double gate_px) {
+  const double now = median_reprojection_px(cam, points_world, pixels, T_world_current);
+  if (points_world.empty() || now <= gate_px) return std::nullopt;
+  const geometry::Pose moved = T_world_adjusted * T_world_added.inverse() * T_world_current;
+  if (median_reprojection_px(cam, points_world, pixels, moved) >= now) return std::nullopt;
+  return moved;
+}
+
 double median_depth(const std::vector<Eigen::Vector3d>& points_world, const geometry::Pose& T_world_cam) {
   const geometry::Pose T_cam_world = T_world_cam.inverse();
   std::vector<double> z;

@@ -79,6 +79,23 @@ std::optional<Eigen::Vector3d> triangulate_point(const Pinhole& cam, const std::
 bool baseline_subtends(const std::vector<geometry::Pose>& T_world_views, const geometry::Pose& T_world_cam,
                        double depth, double min_parallax_deg);
 
+/// Median distance (px) between the projections of `points_world` at `T_world_cam` and `pixels`;
+/// a point behind the camera counts as 1e9. 0 when there are none.
+double median_reprojection_px(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
+                              const std::vector<Eigen::Vector2d>& pixels, const geometry::Pose& T_world_cam);
+
+/// A keyframe's bundle adjustment moved its pose from `T_world_added` to `T_world_adjusted`, and
+/// its points with it. When those points, tracked at `pixels` now, miss the current pose
+/// `T_world_current` by more than `gate_px` in the median, the adjustment has moved its window as a
+/// whole: returns the current pose moved the same way (the motion since the keyframe kept), if
+/// the points then project closer. Otherwise nullopt.
+std::optional<geometry::Pose> follow_keyframe_adjustment(const Pinhole& cam,
+                                                         const std::vector<Eigen::Vector3d>& points_world,
+                                                         const std::vector<Eigen::Vector2d>& pixels,
+                                                         const geometry::Pose& T_world_current,
+                                                         const geometry::Pose& T_world_added,
+                                                         const geometry::Pose& T_world_adjusted, double gate_px);
+
 /// Median of the depths of `points_world` in the camera at `T_world_cam`; 0 when there are none.
 double median_depth(const std::vector<Eigen::Vector3d>& points_world, const geometry::Pose& T_world_cam);
 

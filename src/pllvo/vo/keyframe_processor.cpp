@@ -502,6 +502,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
 
   map_.read([&](const MapData& m) {
     const auto& kf = m.keyframes.at(kid);
+    result.T_world_cam_adjusted = kf.T_world_cam;
     for (size_t i = 0; i < kf.point_ids.size(); ++i)
       result.tracks.push_back({kf.features.points[i], kf.point_ids[i], kf.origins[i], {kid, static_cast<int>(i)}});
     for (size_t j = 0; j < kf.lines.size(); ++j)

@@ -53,6 +53,7 @@ struct KeyframeResult {
   std::vector<TrackedLine> new_lines;
   size_t followed_frame = 0;
   geometry::Pose T_world_cam = geometry::Pose::Identity();  ///< the keyframe's pose as added
+  geometry::Pose T_world_cam_adjusted = geometry::Pose::Identity();  ///< ...and after its bundle adjustment
   bool relocalised = false;          ///< a first keyframe placed by relocalisation (pose.relocalise_min_inliers)
   int matches = 0;                   ///< features linked to the previous keyframe (KLT tracks + matcher)
   int new_points = 0;

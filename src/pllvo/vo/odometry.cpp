@@ -803,6 +803,7 @@ void Odometry::apply_keyframe_results() {
       if (!point_taken[i] && tracks_[i].point != kNoId) merged.push_back(tracks_[i]);
     for (size_t i = 0; i < line_tracks_.size(); ++i)
       if (!line_taken[i] && line_tracks_[i].line != kNoId) merged_lines.push_back(line_tracks_[i]);
+    if (config_.pose.follow_keyframe_adjustment) follow_adjustment(merged, result);
     drop_inconsistent_tracks(merged, result.frame_index);
     drop_inconsistent_lines(merged_lines);
     tracks_ = std::move(merged);
@@ -821,6 +822,25 @@ void Odometry::apply_keyframe_results() {
     pyramid_buffer_.clear();
   else
     pyramid_buffer_.drop_before(*pending_keyframe_frames_.begin());
+}
+
+void Odometry::follow_adjustment(const std::vector<TrackedPoint>& tracks, const KeyframeResult& result) {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector2d> pixels;
+  map_.read([&](const MapData& m) {
+    for (const auto& t : tracks) {
+      auto it = t.point == kNoId ? m.points.end() : m.points.find(t.point);
+      if (it != m.points.end()) points.push_back(it->second.position), pixels.push_back(to_eigen(t.px));
+    }
+  });
+  const auto moved = follow_keyframe_adjustment(camera_, points, pixels, T_world_work_, result.T_world_cam,
+                                                result.T_world_cam_adjusted, config_.pose.merge_gate_px);
+  if (!moved) return;
+  spdlog::debug("keyframe of frame {}: its adjustment moves the current pose (median point error {:.2f} -> {:.2f} px)",
+                result.frame_index, median_reprojection_px(camera_, points, pixels, T_world_work_),
+                median_reprojection_px(camera_, points, pixels, *moved));
+  T_world_work_ = *moved;
+  stats_.add_count("poses_moved_by_adjustment");
 }
 
 void Odometry::drop_inconsistent_tracks(std::vector<TrackedPoint>& tracks, size_t keyframe_frame) const {

@@ -185,6 +185,12 @@ struct PoseConfig {
   /// (threaded mode) otherwise bring inconsistent points that make the pose jump: EuRoC at
   /// rest, threaded, moves 1.4-1.6 mm with 4 px and 3.5-10.6 mm without (docs/vo.md).
   double merge_gate_px = 4.0;
+  /// When most of a returning keyframe's points miss the current pose by more than merge_gate_px,
+  /// the pose first moves by the keyframe's bundle-adjustment correction (the motion since the
+  /// keyframe kept) if that brings them closer: the adjustment moved its window as a whole, and
+  /// the gate would otherwise drop the points it adjusted. Stereo medium_lowtexture lost frames
+  /// 31-34 that way at starts 2 and 3; it fires about once a run (docs/vo.md, session 21).
+  bool follow_keyframe_adjustment = true;
   /// When PnP / the refinement fail for want of points, a pose is still accepted from the
   /// motion prior plus at least this many agreeing observations (points + lines); 0: off.
   int min_inliers_with_prior = 5;
