@@ -803,7 +803,7 @@ void Odometry::apply_keyframe_results() {
       if (!point_taken[i] && tracks_[i].point != kNoId) merged.push_back(tracks_[i]);
     for (size_t i = 0; i < line_tracks_.size(); ++i)
       if (!line_taken[i] && line_tracks_[i].line != kNoId) merged_lines.push_back(line_tracks_[i]);
-    if (config_.pose.follow_keyframe_adjustment) follow_adjustment(merged, result);
+    if (config_.pose.follow_keyframe_adjustment && config_.pose.merge_gate_px > 0) follow_adjustment(merged, result);
     drop_inconsistent_tracks(merged, result.frame_index);
     drop_inconsistent_lines(merged_lines);
     tracks_ = std::move(merged);

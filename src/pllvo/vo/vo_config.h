@@ -189,7 +189,8 @@ struct PoseConfig {
   /// the pose first moves by the keyframe's bundle-adjustment correction (the motion since the
   /// keyframe kept) if that brings them closer: the adjustment moved its window as a whole, and
   /// the gate would otherwise drop the points it adjusted. Stereo medium_lowtexture lost frames
-  /// 31-34 that way at starts 2 and 3; it fires about once a run (docs/vo.md, session 21).
+  /// 31-34 that way at starts 2 and 3; it fires about once a run (docs/vo.md, session 21). Needs
+  /// the gate (merge_gate_px > 0).
   bool follow_keyframe_adjustment = true;
   /// When PnP / the refinement fail for want of points, a pose is still accepted from the
   /// motion prior plus at least this many agreeing observations (points + lines); 0: off.
