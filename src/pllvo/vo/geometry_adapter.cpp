@@ -124,15 +124,21 @@ bool baseline_subtends(const std::vector<geometry::Pose>& T_world_views, const g
   return depth > 0 && 2.0 * std::atan2(0.5 * widest, depth) >= min_parallax_deg * M_PI / 180.0;
 }
 
-double median_reprojection_px(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
-                              const std::vector<Eigen::Vector2d>& pixels, const geometry::Pose& T_world_cam) {
+std::vector<double> reprojection_errors_px(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
+                                           const std::vector<Eigen::Vector2d>& pixels,
+                                           const geometry::Pose& T_world_cam) {
   const geometry::Pose T_cam_world = T_world_cam.inverse();
   std::vector<double> errors;
   for (size_t i = 0; i < points_world.size() && i < pixels.size(); ++i) {
     Eigen::Vector2d uv;
     errors.push_back(cam.project(T_cam_world * points_world[i], uv) ? (uv - pixels[i]).norm() : 1e9);
   }
-  return median(std::move(errors));
+  return errors;
+}
+
+double median_reprojection_px(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
+                              const std::vector<Eigen::Vector2d>& pixels, const geometry::Pose& T_world_cam) {
+  return median(reprojection_errors_px(cam, points_world, pixels, T_world_cam));
 }
 
 std::optional<geometry::Pose> follow_keyframe_adjustment(const Pinhole& cam,

@@ -79,8 +79,13 @@ std::optional<Eigen::Vector3d> triangulate_point(const Pinhole& cam, const std::
 bool baseline_subtends(const std::vector<geometry::Pose>& T_world_views, const geometry::Pose& T_world_cam,
                        double depth, double min_parallax_deg);
 
-/// Median distance (px) between the projections of `points_world` at `T_world_cam` and `pixels`;
-/// a point behind the camera counts as 1e9. 0 when there are none.
+/// Distances (px) between the projections of `points_world` at `T_world_cam` and `pixels`; a
+/// point behind the camera counts as 1e9.
+std::vector<double> reprojection_errors_px(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
+                                           const std::vector<Eigen::Vector2d>& pixels,
+                                           const geometry::Pose& T_world_cam);
+
+/// Their median; 0 when there are none.
 double median_reprojection_px(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
                               const std::vector<Eigen::Vector2d>& pixels, const geometry::Pose& T_world_cam);
 

@@ -803,8 +803,7 @@ void Odometry::apply_keyframe_results() {
       if (!point_taken[i] && tracks_[i].point != kNoId) merged.push_back(tracks_[i]);
     for (size_t i = 0; i < line_tracks_.size(); ++i)
       if (!line_taken[i] && line_tracks_[i].line != kNoId) merged_lines.push_back(line_tracks_[i]);
-    if (config_.pose.follow_keyframe_adjustment && config_.pose.merge_gate_px > 0) follow_adjustment(merged, result);
-    drop_inconsistent_tracks(merged, result.frame_index);
+    drop_inconsistent_tracks(merged, result);
     drop_inconsistent_lines(merged_lines);
     tracks_ = std::move(merged);
     policy_.set_reference_points(count_mapped(tracks_));
@@ -824,26 +823,7 @@ void Odometry::apply_keyframe_results() {
     pyramid_buffer_.drop_before(*pending_keyframe_frames_.begin());
 }
 
-void Odometry::follow_adjustment(const std::vector<TrackedPoint>& tracks, const KeyframeResult& result) {
-  std::vector<Eigen::Vector3d> points;
-  std::vector<Eigen::Vector2d> pixels;
-  map_.read([&](const MapData& m) {
-    for (const auto& t : tracks) {
-      auto it = t.point == kNoId ? m.points.end() : m.points.find(t.point);
-      if (it != m.points.end()) points.push_back(it->second.position), pixels.push_back(to_eigen(t.px));
-    }
-  });
-  const auto moved = follow_keyframe_adjustment(camera_, points, pixels, T_world_work_, result.T_world_cam,
-                                                result.T_world_cam_adjusted, config_.pose.merge_gate_px);
-  if (!moved) return;
-  spdlog::debug("keyframe of frame {}: its adjustment moves the current pose (median point error {:.2f} -> {:.2f} px)",
-                result.frame_index, median_reprojection_px(camera_, points, pixels, T_world_work_),
-                median_reprojection_px(camera_, points, pixels, *moved));
-  T_world_work_ = *moved;
-  stats_.add_count("poses_moved_by_adjustment");
-}
-
-void Odometry::drop_inconsistent_tracks(std::vector<TrackedPoint>& tracks, size_t keyframe_frame) const {
+void Odometry::drop_inconsistent_tracks(std::vector<TrackedPoint>& tracks, const KeyframeResult& result) {
   // The tracker's latest pose comes from the points it already follows; a keyframe that
   // comes back late brings points triangulated at its own pose and followed over the frames
   // since. Those that do not project near where they are tracked now (a drifted follow, a
@@ -851,25 +831,33 @@ void Odometry::drop_inconsistent_tracks(std::vector<TrackedPoint>& tracks, size_
   // and make the pose jump: they are dropped.
   const double gate = config_.pose.merge_gate_px;
   if (gate <= 0) return;
-  const geometry::Pose T_work_world = T_world_work_.inverse();
-  std::vector<double> errors;
-  std::vector<TrackedPoint> kept;
-  kept.reserve(tracks.size());
+  std::vector<int> slot(tracks.size(), -1);  // index in points / pixels, -1: no map point
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector2d> pixels;
   map_.read([&](const MapData& m) {
-    for (auto& t : tracks) {
-      auto it = t.point == kNoId ? m.points.end() : m.points.find(t.point);
-      if (it == m.points.end()) {
-        kept.push_back(t);
-        continue;
-      }
-      Eigen::Vector2d uv;
-      const double e = camera_.project(T_work_world * it->second.position, uv) ? (uv - to_eigen(t.px)).norm() : 1e9;
-      errors.push_back(e);
-      if (e <= gate) kept.push_back(t);
+    for (size_t i = 0; i < tracks.size(); ++i) {
+      auto it = tracks[i].point == kNoId ? m.points.end() : m.points.find(tracks[i].point);
+      if (it == m.points.end()) continue;
+      slot[i] = static_cast<int>(points.size());
+      points.push_back(it->second.position);
+      pixels.push_back(to_eigen(tracks[i].px));
     }
   });
+  if (config_.pose.follow_keyframe_adjustment) {
+    if (const auto moved = follow_keyframe_adjustment(camera_, points, pixels, T_world_work_, result.T_world_cam,
+                                                      result.T_world_cam_adjusted, gate)) {
+      spdlog::debug("keyframe of frame {}: its adjustment moves the current pose", result.frame_index);
+      T_world_work_ = *moved;
+      stats_.add_count("poses_moved_by_adjustment");
+    }
+  }
+  const std::vector<double> errors = reprojection_errors_px(camera_, points, pixels, T_world_work_);
+  std::vector<TrackedPoint> kept;
+  kept.reserve(tracks.size());
+  for (size_t i = 0; i < tracks.size(); ++i)
+    if (slot[i] < 0 || errors[slot[i]] <= gate) kept.push_back(tracks[i]);
   spdlog::debug("keyframe of frame {} merged at frame {}: {} of {} map points within {} px (median {:.2f} px)",
-                keyframe_frame, previous_index_, kept.size(), tracks.size(), gate, median(errors));
+                result.frame_index, previous_index_, kept.size(), tracks.size(), gate, median(errors));
   stats_.add_count("merge_dropped_points", static_cast<long long>(tracks.size() - kept.size()));
   tracks = std::move(kept);
 }

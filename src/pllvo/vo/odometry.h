@@ -113,10 +113,10 @@ class Odometry {
   /// already follows (same identity as in `job`) and new ones, and brings the new ones up to
   /// the newest buffered frame.
   void prepare_result(const KeyframeJob& job, KeyframeResult& result) const;
-  /// Drops merged tracks whose map point does not project near the track at the latest pose.
-  void drop_inconsistent_tracks(std::vector<TrackedPoint>& tracks, size_t keyframe_frame) const;
-  /// pose.follow_keyframe_adjustment: moves the current pose by the keyframe's adjustment.
-  void follow_adjustment(const std::vector<TrackedPoint>& tracks, const KeyframeResult& result);
+  /// Drops merged tracks whose map point does not project near the track at the latest pose
+  /// (pose.merge_gate_px); first, under pose.follow_keyframe_adjustment, that pose may move by
+  /// `result`'s bundle-adjustment correction.
+  void drop_inconsistent_tracks(std::vector<TrackedPoint>& tracks, const KeyframeResult& result);
   void drop_inconsistent_lines(std::vector<TrackedLine>& lines) const;
   void start_tracking(const KeyframeResult& result, double timestamp);
   /// Poses of the frames seen during monocular initialisation, by PnP on the new map.
