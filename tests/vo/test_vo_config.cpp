@@ -63,6 +63,8 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.run.keyframe_stages, code.run.keyframe_stages);
   EXPECT_EQ(file.run.starving_points, code.run.starving_points);
   EXPECT_EQ(file.run.mono_starving_points, code.run.mono_starving_points);
+  EXPECT_EQ(file.run.noisy_starving_points, code.run.noisy_starving_points);
+  EXPECT_DOUBLE_EQ(file.run.noisy_frame_noise, code.run.noisy_frame_noise);
   EXPECT_DOUBLE_EQ(file.pose.extrapolate_gap_max_s, code.pose.extrapolate_gap_max_s);
   EXPECT_EQ(file.pose.extrapolate_velocity_frames, code.pose.extrapolate_velocity_frames);
   EXPECT_EQ(file.pose.relocalise_min_inliers, code.pose.relocalise_min_inliers);
@@ -112,6 +114,7 @@ TEST(VoConfig, ProjectionSearchIsReadAndChecked) {
 TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {
   const VoConfig c = VoConfig::load(write_yaml(
       "speed", "frontend:\n  superpoint_conv_layout: nchw\nrun:\n  network_threads: 1\n  keyframe_stages: 1\n  starving_points: 25\n  mono_starving_points: 50\n"
+               "  noisy_starving_points: 70\n  noisy_frame_noise: 4.0\n"
                "mapping:\n  match_untracked_only: false\npose:\n  extrapolate_gap_max_s: 0.25\n  relocalise_min_inliers: 0\n"
                "  mono_resume_max_s: 1.5\n  relocalise_keyframes: 2\n  stereo_restart_at_once: false\n"));
   EXPECT_EQ(c.frontend.superpoint_conv_layout, "nchw");
@@ -123,6 +126,13 @@ TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {
   // A monocular run waits by its own threshold; a stereo run keeps the common one.
   EXPECT_EQ(c.for_mode(false).run.starving_points, 50);
   EXPECT_EQ(c.for_mode(true).run.starving_points, 25);
+  // Stereo: a noisy frame (low light) waits below the noisy threshold; monocular runs keep theirs.
+  EXPECT_EQ(c.for_mode(true).run.starving_points_at(1.2), 25);
+  EXPECT_EQ(c.for_mode(true).run.starving_points_at(3.99), 25);
+  EXPECT_EQ(c.for_mode(true).run.starving_points_at(4.0), 70);
+  EXPECT_EQ(c.for_mode(true).run.starving_points_at(7.5), 70);
+  EXPECT_EQ(c.for_mode(false).run.starving_points_at(1.2), 50);
+  EXPECT_EQ(c.for_mode(false).run.starving_points_at(7.5), 50);
   EXPECT_FALSE(c.mapping.match_untracked_only);
   EXPECT_DOUBLE_EQ(c.pose.extrapolate_gap_max_s, 0.25);
   EXPECT_EQ(c.pose.relocalise_min_inliers, 0);
@@ -138,7 +148,9 @@ TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {
       {"run:\n  network_threads: 0\n", "run.network_threads"},
       {"run:\n  keyframe_stages: 3\n", "run.keyframe_stages"},
       {"run:\n  starving_points: -1\n", "run.starving_points"},
-      {"run:\n  mono_starving_points: -1\n", "run.mono_starving_points"}};
+      {"run:\n  mono_starving_points: -1\n", "run.mono_starving_points"},
+      {"run:\n  noisy_starving_points: -1\n", "run.noisy_starving_points"},
+      {"run:\n  noisy_frame_noise: 0\n", "run.noisy_frame_noise"}};
   for (const auto& [text, key] : bad) {
     try {
       VoConfig::load(write_yaml("badspeed", text));

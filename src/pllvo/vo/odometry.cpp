@@ -120,10 +120,10 @@ void Odometry::normalize_brightness(cv::Mat& left, cv::Mat& right) const {
 
 void Odometry::denoise(cv::Mat& left, cv::Mat& right) {
   const double sigma = config_.klt.denoise_sigma_px;
-  if (config_.klt.denoise_min_noise <= 0 || sigma <= 0) return;
   const double noise = estimate_noise_sigma(left);
+  frame_noise_ = noise;
   stats_.add_sample("image_noise", noise);
-  if (noise < config_.klt.denoise_min_noise) return;
+  if (config_.klt.denoise_min_noise <= 0 || sigma <= 0 || noise < config_.klt.denoise_min_noise) return;
   cv::Mat l, r;
   cv::GaussianBlur(left, l, cv::Size(), sigma);
   left = l;
@@ -155,7 +155,7 @@ FrameRecord Odometry::process(const io::Frame& frame) {
                          : tracker_.build_pyramid(left);
   }
   if (config_.run.wait_when_starving && state_ == TrackingState::kTracking && !worker_.idle() &&
-      count_mapped(tracks_) < config_.run.starving_points) {
+      count_mapped(tracks_) < config_.run.starving_points_at(frame_noise_)) {
     ScopedTimer t(stats_, "starved_wait");
     worker_.wait_idle();
     stats_.add_count("starved_waits");

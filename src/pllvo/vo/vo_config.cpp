@@ -136,6 +136,8 @@ void read_run(const ConfigNode& n, RunConfig& c) {
   n.get("wait_when_starving", c.wait_when_starving);
   n.get("starving_points", c.starving_points);
   n.get("mono_starving_points", c.mono_starving_points);
+  n.get("noisy_starving_points", c.noisy_starving_points);
+  n.get("noisy_frame_noise", c.noisy_frame_noise);
   n.get("network_threads", c.network_threads);
   n.get("keyframe_stages", c.keyframe_stages);
   n.get("progress_interval_s", c.progress_interval_s);
@@ -161,6 +163,7 @@ VoConfig VoConfig::for_mode(bool stereo) const {
     auto& weight = c.backend.bundle_adjustment.line_weight;
     weight = std::min(weight, mapping.mono_ba_line_weight);
     c.run.starving_points = run.mono_starving_points;
+    c.run.noisy_starving_points = run.mono_starving_points;
     c.frontend.min_corner_ratio = frontend.mono_min_corner_ratio;
     c.frontend.working_view = frontend.mono_working_view;
   }
@@ -209,6 +212,9 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(run.network_threads >= 1 && run.network_threads <= 64, file, "run.network_threads", "must be in [1, 64]");
   require(run.starving_points >= 0, file, "run.starving_points", "must not be negative");
   require(run.mono_starving_points >= 0, file, "run.mono_starving_points", "must not be negative");
+  require(run.noisy_starving_points >= 0, file, "run.noisy_starving_points", "must not be negative");
+  require(run.noisy_frame_noise > 0 && std::isfinite(run.noisy_frame_noise), file, "run.noisy_frame_noise",
+          "must be positive");
   require(run.keyframe_stages == 1 || run.keyframe_stages == 2, file, "run.keyframe_stages", "must be 1 or 2");
   require(klt.window_px >= 5 && klt.window_px % 2 == 1, file, "klt.window_px", "must be odd and >= 5");
   require(klt.levels >= 0 && klt.levels <= 6, file, "klt.levels", "must be in [0, 6]");

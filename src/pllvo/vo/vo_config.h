@@ -1,6 +1,7 @@
 #pragma once
 // Every threshold of the visual-odometry pipeline, with its default and the reason for it.
 // A YAML file (config/vo.yaml) overrides only the keys it names; unknown keys are an error.
+#include <algorithm>
 #include <filesystem>
 #include <string>
 
@@ -318,6 +319,20 @@ struct RunConfig {
   /// (ECD threaded: 47 frames tracked, 17.2 % ATE at 45; 56 frames, 2.60 % at 60, as a
   /// single-thread run; docs/vo.md, session 15). Stereo maps get their depth from the pair.
   int mono_starving_points = 60;
+  /// Stereo frames whose image noise reaches noisy_frame_noise (grey levels, the estimate
+  /// klt.denoise_min_noise reads: the suite's normal light 0.5-2.8, its low light 4.1-9) starve below
+  /// noisy_starving_points instead: each noisy track holds the pose less, and in the fast dark
+  /// turns a tracker that ran on without the keyframe in flight drifted (stereo
+  /// difficult_lowlight starts 0-3: 2.30 / 1.30 / 1.48 / 1.43 % at 45, 1.13 / 1.21 / 1.95 / 0.48 %
+  /// at 80, with normal-light speed untouched; docs/vo.md, session 22). Monocular runs keep
+  /// mono_starving_points.
+  int noisy_starving_points = 80;
+  double noisy_frame_noise = 3.5;
+
+  /// Tracked map points below which a frame with this image noise waits (see above).
+  int starving_points_at(double image_noise) const {
+    return image_noise < noisy_frame_noise ? starving_points : std::max(starving_points, noisy_starving_points);
+  }
   double progress_interval_s = 2.0;  ///< wall time between progress lines (0: none)
   /// LibTorch + OpenBLAS threads for the networks on the keyframe worker (threaded runs; a
   /// single-thread run uses 1). Two made a quiet machine's run ~1.3x faster, but beside two
