@@ -118,12 +118,11 @@ void Odometry::normalize_brightness(cv::Mat& left, cv::Mat& right) const {
   }
 }
 
-void Odometry::denoise(cv::Mat& left, cv::Mat& right) {
+double Odometry::denoise(cv::Mat& left, cv::Mat& right) {
   const double sigma = config_.klt.denoise_sigma_px;
   const double noise = estimate_noise_sigma(left);
-  frame_noise_ = noise;
   stats_.add_sample("image_noise", noise);
-  if (config_.klt.denoise_min_noise <= 0 || sigma <= 0 || noise < config_.klt.denoise_min_noise) return;
+  if (config_.klt.denoise_min_noise <= 0 || sigma <= 0 || noise < config_.klt.denoise_min_noise) return noise;
   cv::Mat l, r;
   cv::GaussianBlur(left, l, cv::Size(), sigma);
   left = l;
@@ -132,6 +131,7 @@ void Odometry::denoise(cv::Mat& left, cv::Mat& right) {
     right = r;
   }
   stats_.add_count("denoised_frames");
+  return noise;
 }
 
 FrameRecord Odometry::process(const io::Frame& frame) {
@@ -140,12 +140,13 @@ FrameRecord Odometry::process(const io::Frame& frame) {
   record.index = frame.index;
   record.timestamp = frame.timestamp;
   cv::Mat left, right;
+  double image_noise = 0;
   {
     ScopedTimer t(stats_, "rectify");
     rectifier_.apply(frame, left, right);
     frame_brightness_ = cv::mean(left)[0];
     normalize_brightness(left, right);
-    denoise(left, right);
+    image_noise = denoise(left, right);
   }
   ImagePyramid pyramid;
   {
@@ -155,7 +156,7 @@ FrameRecord Odometry::process(const io::Frame& frame) {
                          : tracker_.build_pyramid(left);
   }
   if (config_.run.wait_when_starving && state_ == TrackingState::kTracking && !worker_.idle() &&
-      count_mapped(tracks_) < config_.run.starving_points_at(frame_noise_)) {
+      count_mapped(tracks_) < config_.run.starving_points_at(image_noise)) {
     ScopedTimer t(stats_, "starved_wait");
     worker_.wait_idle();
     stats_.add_count("starved_waits");

@@ -141,9 +141,9 @@ class Odometry {
   /// Keeps the positions of the last consecutive tracked frames for restart_pose.
   void remember_position(size_t frame_index, const Eigen::Vector3d& position);
   geometry::Pose to_output(const geometry::Pose& T_world_work) const;
-  /// Estimates the left image's noise (frame_noise_, also read by run.starving_points_at) and
-  /// smooths both images when it reaches klt.denoise_min_noise (low light).
-  void denoise(cv::Mat& left, cv::Mat& right);
+  /// Smooths both images when the left one's noise reaches klt.denoise_min_noise (low light);
+  /// returns that noise (grey levels), which also sets the frame's run.starving_points_at.
+  double denoise(cv::Mat& left, cv::Mat& right);
   /// Scales both images by one gain so that the left image's mean is klt.normalize_mean.
   void normalize_brightness(cv::Mat& left, cv::Mat& right) const;
   /// Too few tracks survived: tracks them again on locally contrast-normalised images
@@ -183,7 +183,6 @@ class Odometry {
   std::deque<std::pair<size_t, Eigen::Vector3d>> recent_positions_;
   std::optional<Eigen::Vector3d> gap_step_world_;
   double frame_brightness_ = 0;  ///< mean grey level of the current left image before normalisation
-  double frame_noise_ = 0;       ///< image noise of the current left image (estimate_noise_sigma)
   int resets_ = 0;
   geometry::Pose T_work_cam0_;
   std::unique_ptr<MonoReference> mono_;
