@@ -76,6 +76,26 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.pipeline.lines, code.pipeline.lines);
   EXPECT_EQ(file.pipeline.lines_in_mono, code.pipeline.lines_in_mono);
   EXPECT_EQ(file.pipeline.line_tracking, code.pipeline.line_tracking);
+  EXPECT_EQ(file.plain_scene.max_keyframe_features, code.plain_scene.max_keyframe_features);
+  EXPECT_EQ(file.plain_scene.max_tracked_points, code.plain_scene.max_tracked_points);
+  EXPECT_DOUBLE_EQ(file.plain_scene.line_aperture_eigen_ratio, code.plain_scene.line_aperture_eigen_ratio);
+}
+
+TEST(VoConfig, PlainSceneKeysAreReadAndChecked) {
+  const VoConfig c = VoConfig::load(write_yaml(
+      "plain", "plain_scene:\n  max_keyframe_features: 0\n  max_tracked_points: 12\n  line_aperture_eigen_ratio: 0.1\n"));
+  EXPECT_EQ(c.plain_scene.max_keyframe_features, 0);
+  EXPECT_EQ(c.plain_scene.max_tracked_points, 12);
+  EXPECT_DOUBLE_EQ(c.plain_scene.line_aperture_eigen_ratio, 0.1);
+  for (const char* bad : {"max_keyframe_features: -1", "max_tracked_points: -3", "line_aperture_eigen_ratio: 0",
+                          "line_aperture_eigen_ratio: 1.5", "max_features: 10"}) {
+    try {
+      VoConfig::load(write_yaml("badplain", std::string("plain_scene:\n  ") + bad + "\n"));
+      FAIL() << "accepted " << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("plain_scene"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(VoConfig, PipelineSwitchesAreReadAndChecked) {

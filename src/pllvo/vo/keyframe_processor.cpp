@@ -410,8 +410,13 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
       triangulated[i] = triangulate_point(camera_, v.T_world_cam, v.px, triangulation);
     }
   }
-  // Without stereo lines the points alone decide a stereo start: no line work on a failed one.
-  const bool stereo_lines = line_mapper_ && config_.lines.stereo.enabled && !job.right.empty();
+  // Stereo lines: on every keyframe with lines.stereo, else on plain ones (plain_scene), which
+  // leaves starts to the points. Without them the points alone decide a stereo start: no line
+  // work on a failed one.
+  const int plain_below = config_.plain_scene.max_keyframe_features;
+  const bool plain = !job.first && plain_below > 0 && static_cast<int>(n) < plain_below;
+  const bool stereo_lines = line_mapper_ && !job.right.empty() && (config_.lines.stereo.enabled || plain);
+  if (plain && stereo_lines) stats_.add_count("plain_scene_keyframes");
   if (job.first && !stereo_lines && !stereo_start_ok(stereo, 0)) return result;
   // A first keyframe has no map points nor candidates yet: its pose is first used from here on
   // (stereo points into the world, lines), so a restart can still be placed in the old map.
@@ -428,7 +433,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
     ScopedTimer t(stats_, "kf_lines");
     line_plan = line_mapper_->plan(job.left, job.T_world_cam, job.lines, has_prev ? &prev : nullptr,
                                    point_matches_with(prev, has_prev, features, ids, previous, matches), map_,
-                                   job.right, baseline_);
+                                   stereo_lines ? job.right : cv::Mat(), baseline_);
     stats_.add_sample("kf_lines", static_cast<double>(line_plan.segments.size()));
     if (stereo_lines) stats_.add_sample("kf_stereo_lines", line_plan.from_stereo);
   }

@@ -158,7 +158,7 @@ LinePlan LineMapper::plan(const cv::Mat& image, const geometry::Pose& T_world_ca
       break;
     }
   }
-  if (!right.empty() && baseline > 0 && config_.stereo.enabled) triangulate_stereo(image, right, baseline, T_world_cam, plan);
+  if (!right.empty() && baseline > 0) triangulate_stereo(image, right, baseline, T_world_cam, plan);
   if (spdlog::should_log(spdlog::level::debug)) {
     int mapped = 0, candidates = 0, triangulated = 0;
     for (size_t j = 0; j < m; ++j) {

@@ -29,6 +29,12 @@ int count_mapped(const std::vector<TrackedPoint>& tracks) {
       std::count_if(tracks.begin(), tracks.end(), [](const TrackedPoint& t) { return t.point != kNoId; }));
 }
 
+lines::LineTrackerConfig plain_scene_tracker(const VoConfig& config) {
+  lines::LineTrackerConfig c = config.lines.tracker;
+  if (c.aperture_max_eigen_ratio <= 0) c.aperture_max_eigen_ratio = config.plain_scene.line_aperture_eigen_ratio;
+  return c;
+}
+
 size_t count_mapped_lines(const std::vector<TrackedLine>& lines) {
   return static_cast<size_t>(
       std::count_if(lines.begin(), lines.end(), [](const TrackedLine& l) { return l.line != kNoId; }));
@@ -82,6 +88,7 @@ Odometry::Odometry(const VoConfig& config, const io::Calibration& calibration, b
       use_lines_(config_.pipeline.lines),
       redetect_lines_(config_.pipeline.line_tracking == "redetect"),
       line_tracker_(config_.lines.tracker),
+      plain_line_tracker_(plain_scene_tracker(config_)),
       line_detector_(config_.lines.detector),
       policy_(config_.keyframes),
       processor_(config_, camera_, rectifier_.baseline(), map_, stats),
@@ -518,7 +525,7 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
       predicted_lines.push_back(p);
     }
     const size_t mapped_before = count_mapped_lines(line_tracks_);
-    line_tracks_ = track_lines(previous_pyramid_, pyramid, line_tracks_, &predicted_lines, &line_detector_);
+    line_tracks_ = track_lines(previous_pyramid_, pyramid, line_tracks_, plain_frame(), &predicted_lines, &line_detector_);
     spdlog::debug("frame {}: line flow kept {} of {} mapped lines ({} lines in all)", frame.index,
                   count_mapped_lines(line_tracks_), mapped_before, line_tracks_.size());
     if (config_.pose.use_lines) {
@@ -729,7 +736,7 @@ void Odometry::follow(const std::vector<std::pair<size_t, ImagePyramid>>& frames
         if (tr.ok[i]) next.push_back({tr.points[i], points[i].point, points[i].origin, points[i].last});
       points = std::move(next);
     }
-    if (use_lines_) lines = track_lines(from, to, lines, nullptr, detector ? &*detector : nullptr);
+    if (use_lines_) lines = track_lines(from, to, lines, false, nullptr, detector ? &*detector : nullptr);
   }
 }
 
@@ -898,6 +905,7 @@ void Odometry::drop_inconsistent_lines(std::vector<TrackedLine>& lines) const {
 
 std::vector<TrackedLine> Odometry::track_lines(const ImagePyramid& from, const ImagePyramid& to,
                                                const std::vector<TrackedLine>& lines,
+                                               bool plain,
                                                const std::vector<lines::LineSegment>* predicted,
                                                lines::LineDetector* detector) const {
   if (lines.empty()) return {};
@@ -920,7 +928,7 @@ std::vector<TrackedLine> Odometry::track_lines(const ImagePyramid& from, const I
     }
     return kept;
   }
-  const auto tracks = line_tracker_.track(from.flow, to.flow, segments, predicted);
+  const auto tracks = (plain ? plain_line_tracker_ : line_tracker_).track(from.flow, to.flow, segments, predicted);
   std::vector<TrackedLine> kept;
   for (size_t i = 0; i < tracks.size(); ++i) {
     if (tracks[i].status != lines::TrackStatus::Tracked) {
@@ -932,6 +940,13 @@ std::vector<TrackedLine> Odometry::track_lines(const ImagePyramid& from, const I
     kept.push_back(l);
   }
   return kept;
+}
+
+bool Odometry::plain_frame() const {
+  const int below = config_.plain_scene.max_tracked_points;
+  const bool plain = below > 0 && count_mapped(tracks_) < below;
+  if (plain) stats_.add_count("plain_scene_line_frames");
+  return plain;
 }
 
 void Odometry::set_reference_lines(const std::vector<TrackedLine>& lines) {

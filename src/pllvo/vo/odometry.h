@@ -122,11 +122,14 @@ class Odometry {
   /// Poses of the frames seen during monocular initialisation, by PnP on the new map.
   void localize_init_frames(const MonoReference& ref, const std::vector<std::optional<Eigen::Vector3d>>& points,
                             const geometry::Pose& T_world_ref);
-  /// Follows `lines` from one pyramid to the next; drops those the tracker rejects.
+  /// Follows `lines` from one pyramid to the next; drops those the tracker rejects. `plain`:
+  /// a plain scene's frame (plain_scene.max_tracked_points), tracked with aperture handling.
   std::vector<TrackedLine> track_lines(const ImagePyramid& from, const ImagePyramid& to,
-                                       const std::vector<TrackedLine>& lines,
+                                       const std::vector<TrackedLine>& lines, bool plain,
                                        const std::vector<lines::LineSegment>* predicted = nullptr,
                                        lines::LineDetector* detector = nullptr) const;
+  /// Whether this frame follows fewer map points than plain_scene.max_tracked_points.
+  bool plain_frame() const;
   void set_reference_lines(const std::vector<TrackedLine>& lines);
   std::optional<double> line_angle_distance() const;
   /// Monocular: median parallax of the candidate tracks since their first keyframe (degrees,
@@ -159,6 +162,7 @@ class Odometry {
   bool use_lines_;
   bool redetect_lines_;  ///< pipeline.line_tracking: redetect
   lines::LineTracker line_tracker_;
+  lines::LineTracker plain_line_tracker_;  ///< the same with aperture handling (plain_scene)
   lines::LineDetector line_detector_;  ///< tracking thread, redetect mode only
   KeyframePolicy policy_;
   Map map_;

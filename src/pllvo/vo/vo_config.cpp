@@ -131,6 +131,13 @@ void read_pipeline(const ConfigNode& n, PipelineConfig& c) {
   n.reject_unknown_keys();
 }
 
+void read_plain_scene(const ConfigNode& n, PlainSceneConfig& c) {
+  n.get("max_keyframe_features", c.max_keyframe_features);
+  n.get("max_tracked_points", c.max_tracked_points);
+  n.get("line_aperture_eigen_ratio", c.line_aperture_eigen_ratio);
+  n.reject_unknown_keys();
+}
+
 void read_run(const ConfigNode& n, RunConfig& c) {
   n.get("threaded", c.threaded);
   n.get("wait_when_starving", c.wait_when_starving);
@@ -185,6 +192,7 @@ void VoConfig::read(const ConfigNode& node) {
   read_pose(node.child("pose"), pose);
   read_mapping(node.child("mapping"), mapping);
   read_pipeline(node.child("pipeline"), pipeline);
+  read_plain_scene(node.child("plain_scene"), plain_scene);
   read_run(node.child("run"), run);
   geometry.load(node.child("geometry"));
   backend.load(node.child("backend"));
@@ -250,6 +258,10 @@ void VoConfig::validate(const std::filesystem::path& file) const {
           "mapping.matcher", "must be auto, lightglue or mnn");
   require(pipeline.line_tracking == "flow" || pipeline.line_tracking == "redetect", file,
           "pipeline.line_tracking", "must be flow or redetect (got '" + pipeline.line_tracking + "')");
+  require(plain_scene.max_keyframe_features >= 0, file, "plain_scene.max_keyframe_features", "must be >= 0 (0: off)");
+  require(plain_scene.max_tracked_points >= 0, file, "plain_scene.max_tracked_points", "must be >= 0 (0: off)");
+  require(plain_scene.line_aperture_eigen_ratio > 0 && plain_scene.line_aperture_eigen_ratio < 1, file,
+          "plain_scene.line_aperture_eigen_ratio", "must be in (0, 1)");
   require(mapping.max_anchor_keyframes >= 0, file, "mapping.max_anchor_keyframes", "must not be negative");
   require(mapping.mono_line_min_plane_angle_deg >= 0 && mapping.mono_line_min_plane_angle_deg < 90, file,
           "mapping.mono_line_min_plane_angle_deg", "must be in [0, 90)");

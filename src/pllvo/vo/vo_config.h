@@ -300,6 +300,21 @@ struct PipelineConfig {
   std::string line_tracking = "flow";
 };
 
+/// Plain scenes (blank walls, a door, a floor edge): a handful of point features, so the few
+/// long edges there are must carry the pose. Two line options that cost accuracy where texture
+/// is rich (docs/vo.md, sessions 13 and 19) act only where it is not.
+struct PlainSceneConfig {
+  /// Stereo keyframes with fewer point detections than this match their lines left-right and
+  /// triangulate them at once (lines.stereo), so a door edge is mapped on the keyframe that
+  /// sees it, not two keyframes later. Textured keyframes keep lines.stereo.enabled (0: off).
+  int max_keyframe_features = 60;
+  /// Frames following fewer map points than this track lines with aperture handling
+  /// (line_aperture_eigen_ratio as lines.tracker.aperture_max_eigen_ratio): samples on a plain
+  /// edge keep only their motion across it (0: off).
+  int max_tracked_points = 30;
+  double line_aperture_eigen_ratio = 0.05;
+};
+
 /// Everything else: threads, progress, output.
 struct RunConfig {
   bool threaded = true;        ///< keyframe worker thread; false: deterministic single thread
@@ -354,6 +369,7 @@ struct VoConfig {
   PoseConfig pose;
   MappingConfig mapping;
   PipelineConfig pipeline;
+  PlainSceneConfig plain_scene;
   RunConfig run;
   geometry::GeometryConfig geometry;  ///< section `geometry:` (keys of config/geometry.yaml)
   backend::BackendConfig backend;     ///< section `backend:` (keys of config/backend.yaml)
