@@ -2,13 +2,15 @@
 // Helpers of the end-to-end VO tests: the deterministic single-thread configuration; small
 // synthetic sequences (a suite preset at half the EuRoC resolution: 376 x 240, ideal pinhole, no
 // motion blur, a few seconds long, so that rendering stays cheap; each rendered once per test
-// program into the temp folder); a sequence with blacked-out frames.
+// program into the temp folder); a sequence with blacked-out frames; stats.json counts.
 #include <filesystem>
 #include <map>
 #include <memory>
 #include <string>
 
 #include <unistd.h>
+
+#include <nlohmann/json.hpp>
 
 #include "pllvo/io/sequence.h"
 #include "pllvo/synth/sequence_writer.h"
@@ -26,6 +28,11 @@ inline VoConfig deterministic() {
   c.run.threaded = false;
   c.run.progress_interval_s = 0;
   return c;
+}
+
+/// A count of stats.json's "counts" (0 when the run never counted it).
+inline long long stats_count(const nlohmann::json& stats, const std::string& name) {
+  return stats["counts"].contains(name) ? stats["counts"][name].get<long long>() : 0;
 }
 
 inline synth::SequenceSpec small_spec(const std::string& preset, double duration_s, bool stereo) {

@@ -55,9 +55,7 @@ class PipelineSwitches : public ::testing::Test {
   static double per_frame_mean(const nlohmann::json& j, const std::string& name) {
     return j["per_frame"].contains(name) ? j["per_frame"][name]["mean"].get<double>() : 0.0;
   }
-  static long long count(const nlohmann::json& j, const std::string& name) {
-    return j["counts"].contains(name) ? j["counts"][name].get<long long>() : 0;
-  }
+  static long long count(const nlohmann::json& j, const std::string& name) { return testing::stats_count(j, name); }
 
   static fs::path* dir_;
   static io::Sequence* sequence_;
