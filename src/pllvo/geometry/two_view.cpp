@@ -291,6 +291,7 @@ TwoViewResult initialise_two_view(std::span<const Eigen::Vector2d> xy0,
   const Candidate& best = candidates[0];
   out.median_parallax_deg = best.median_parallax_deg;
   const int num_triangulated = static_cast<int>(std::count(best.triangulated.begin(), best.triangulated.end(), 1));
+  out.num_triangulated = num_triangulated;
   if (best.good < config.min_good_fraction * num_inliers) {
     out.failure = "too few inliers in front of both cameras";
   } else if (candidates.size() > 1 && candidates[1].informative > config.max_ambiguity * best.informative) {

@@ -61,6 +61,8 @@ struct TwoViewInit {
   geometry::Pose T_cam1_cam0 = geometry::Pose::Identity();  ///< |t| = 1
   std::vector<std::optional<Eigen::Vector3d>> points_cam0;  ///< per correspondence
   double median_parallax_deg = 0;
+  int num_inliers = 0;       ///< matches that fit the chosen model
+  int num_triangulated = 0;  ///< of them, triangulated by the best decomposition
 };
 
 /// Monocular initialisation from pixel correspondences (E vs H, chosen by score).

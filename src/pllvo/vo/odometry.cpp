@@ -332,7 +332,10 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
 
   const TwoViewInit two_view = initialize_two_view(camera_, px0, px1, config_.geometry.two_view);
   if (!two_view.ok) {
-    spdlog::debug("frame {}: two-view initialisation failed ({}: {})", frame.index, two_view.model, two_view.failure);
+    spdlog::debug("frame {}: two-view initialisation failed ({}: {}; {} of {} matches fit, {} triangulated, median "
+                  "parallax {:.2f} deg)",
+                  frame.index, two_view.model, two_view.failure, two_view.num_inliers, px0.size(),
+                  two_view.num_triangulated, two_view.median_parallax_deg);
     return false;
   }
 
