@@ -344,13 +344,8 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   const geometry::Pose T_world_cur = T_world_ref * two_view.T_cam1_cam0.inverse();
   std::vector<std::optional<Eigen::Vector3d>> ref_points(ref.features.size());
   std::vector<cv::Point2f> second_px(ref.features.size(), cv::Point2f(NAN, NAN));
-  KeyframeJob second;
-  second.frame_index = frame.index;
-  second.timestamp = frame.timestamp;
-  second.left = left;
-  second.left_pyramid = pyramid;
+  KeyframeJob second = make_keyframe_job(frame, left, cv::Mat(), pyramid, KeyframeReason::kInitialization);
   second.T_world_cam = T_world_cur;
-  second.reason = KeyframeReason::kInitialization;
   int made = 0;
   for (size_t k = 0, j = 0; k < which.size(); ++k) {
     const int i = which[k];
