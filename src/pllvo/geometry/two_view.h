@@ -55,7 +55,7 @@ struct TwoViewResult {
   std::vector<uint8_t> inliers;         ///< matches consistent with the chosen model's score
   std::vector<Eigen::Vector3d> points_cam0;  ///< per match; valid where `triangulated`
   std::vector<uint8_t> triangulated;
-  int num_triangulated = 0;
+  int num_triangulated = 0;  ///< by the best decomposition; also set when ok is false (why it failed)
   double median_parallax_deg = 0;
   double score_essential = 0, score_homography = 0;
   std::string failure;  ///< why ok is false
