@@ -523,7 +523,9 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
       predicted_lines.push_back(p);
     }
     const size_t mapped_before = count_mapped_lines(line_tracks_);
-    line_tracks_ = track_lines(previous_pyramid_, pyramid, line_tracks_, plain_frame(), &predicted_lines, &line_detector_);
+    const bool plain = plain_frame();
+    if (plain) stats_.add_count("plain_scene_line_frames");
+    line_tracks_ = track_lines(previous_pyramid_, pyramid, line_tracks_, plain, &predicted_lines, &line_detector_);
     spdlog::debug("frame {}: line flow kept {} of {} mapped lines ({} lines in all)", frame.index,
                   count_mapped_lines(line_tracks_), mapped_before, line_tracks_.size());
     if (config_.pose.use_lines) {
@@ -942,9 +944,7 @@ std::vector<TrackedLine> Odometry::track_lines(const ImagePyramid& from, const I
 
 bool Odometry::plain_frame() const {
   const int below = config_.plain_scene.max_tracked_points;
-  const bool plain = below > 0 && count_mapped(tracks_) < below;
-  if (plain) stats_.add_count("plain_scene_line_frames");
-  return plain;
+  return below > 0 && count_mapped(tracks_) < below;
 }
 
 void Odometry::set_reference_lines(const std::vector<TrackedLine>& lines) {

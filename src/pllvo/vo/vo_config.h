@@ -302,7 +302,8 @@ struct PipelineConfig {
 
 /// Plain scenes (blank walls, a door, a floor edge): a handful of point features, so the few
 /// long edges there are must carry the pose. Two line options that cost accuracy where texture
-/// is rich (docs/vo.md, sessions 13 and 19) act only where it is not.
+/// is rich (docs/vo.md: stereo lines session 5, aperture handling session 13; the rule session 23)
+/// act only where it is not.
 struct PlainSceneConfig {
   /// Stereo keyframes with fewer point detections than this match their lines left-right and
   /// triangulate them at once (lines.stereo), so a door edge is mapped on the keyframe that
