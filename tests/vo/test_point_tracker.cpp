@@ -1,6 +1,9 @@
+#include <cmath>
+
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include "pllvo/common/error.h"
 #include "pllvo/vo/point_frontend.h"
 #include "pllvo/vo/point_tracker.h"
 
@@ -137,6 +140,60 @@ TEST(PointTracker, FollowsASubpixelShift) {
     EXPECT_NEAR(r.points[i].y, pts[i].y + dy, 0.1);
     EXPECT_LE(r.fb_error[i], KltConfig{}.fb_threshold_px);
   }
+}
+
+// A track followed over many noisy frames drifts; one alignment against the first image does not.
+TEST(PointTracker, AlignmentToTheReferenceRemovesAccumulatedDrift) {
+  const cv::Mat a = texture({320, 240}, 5);
+  const double dx = 7.4, dy = -3.2;
+  cv::Mat b = shifted(a, dx, dy), noise(b.size(), CV_16S);
+  cv::RNG rng(3);
+  rng.fill(noise, cv::RNG::NORMAL, 0, 6);  // low-light grain
+  cv::Mat b16;
+  b.convertTo(b16, CV_16S);
+  cv::Mat(b16 + noise).convertTo(b, CV_8U);
+  PointTracker tracker{KltConfig{}};
+  const auto pa = tracker.build_pyramid(a), pb = tracker.build_pyramid(b);
+  const auto reference = grid_points(a.size(), 20, 30);
+  std::vector<cv::Point2f> positions;  // where drifted tracks ended: 0.7-1.4 px off the truth
+  for (size_t i = 0; i < reference.size(); ++i) {
+    const double angle = 0.9 * static_cast<double>(i), off = 0.7 + 0.1 * static_cast<double>(i % 8);
+    positions.emplace_back(reference[i].x + dx + off * std::cos(angle), reference[i].y + dy + off * std::sin(angle));
+  }
+  const auto ok = tracker.align(pa, pb, reference, positions, 1, 3.0);
+  ASSERT_EQ(ok.size(), reference.size());
+  int aligned = 0;
+  double sum_sq = 0;
+  for (size_t i = 0; i < reference.size(); ++i) {
+    if (!ok[i]) continue;
+    ++aligned;
+    const double ex = positions[i].x - reference[i].x - dx, ey = positions[i].y - reference[i].y - dy;
+    sum_sq += ex * ex + ey * ey;
+  }
+  EXPECT_GE(aligned, static_cast<int>(0.95 * reference.size()));
+  const double rms = std::sqrt(sum_sq / std::max(aligned, 1));
+  EXPECT_LT(rms, 0.25);  // from 0.7-1.4 px
+  RecordProperty("aligned_rms_px", std::to_string(rms));
+}
+
+// A position farther from its reference's patch than the shift allowed is not moved: it is
+// another point (a wrong link), or the track lost its point.
+TEST(PointTracker, AlignmentRefusesLargeCorrections) {
+  const cv::Mat a = texture({320, 240}, 6);
+  const cv::Mat b = shifted(a, 2.0, 1.0);
+  PointTracker tracker{KltConfig{}};
+  const auto pa = tracker.build_pyramid(a), pb = tracker.build_pyramid(b);
+  const auto reference = grid_points(a.size(), 20, 30);
+  std::vector<cv::Point2f> positions;
+  for (const auto& p : reference) positions.emplace_back(p.x + 2.0f + 5.0f, p.y + 1.0f);  // 5 px off
+  const std::vector<cv::Point2f> before = positions;
+  const auto ok = tracker.align(pa, pb, reference, positions, 1, 2.0);
+  for (size_t i = 0; i < reference.size(); ++i) {
+    EXPECT_FALSE(ok[i]) << i;
+    EXPECT_EQ(positions[i], before[i]) << i;
+  }
+  std::vector<cv::Point2f> wrong_size(reference.size() - 1);
+  EXPECT_THROW(tracker.align(pa, pb, reference, wrong_size, 1, 2.0), InternalError);
 }
 
 TEST(PointTracker, ForwardBackwardCheckRejectsOccludedPoints) {

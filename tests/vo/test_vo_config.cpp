@@ -48,6 +48,11 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_DOUBLE_EQ(file.mapping.mono_ba_line_weight, code.mapping.mono_ba_line_weight);
   EXPECT_EQ(file.mapping.mono_baseline_parallax_gate, code.mapping.mono_baseline_parallax_gate);
   EXPECT_DOUBLE_EQ(file.mapping.mono_point_min_parallax_deg, code.mapping.mono_point_min_parallax_deg);
+  EXPECT_EQ(file.mapping.mono_align_to_origin, code.mapping.mono_align_to_origin);
+  EXPECT_DOUBLE_EQ(file.mapping.mono_align_min_noise, code.mapping.mono_align_min_noise);
+  EXPECT_DOUBLE_EQ(file.mapping.mono_align_max_shift_px, code.mapping.mono_align_max_shift_px);
+  EXPECT_EQ(file.mapping.mono_align_levels, code.mapping.mono_align_levels);
+  EXPECT_EQ(file.mapping.mono_align_cache_keyframes, code.mapping.mono_align_cache_keyframes);
   EXPECT_DOUBLE_EQ(file.mapping.mnn_max_distance, code.mapping.mnn_max_distance);
   EXPECT_DOUBLE_EQ(file.mapping.lightglue_depth_confidence, code.mapping.lightglue_depth_confidence);
   EXPECT_DOUBLE_EQ(file.mapping.lightglue_width_confidence, code.mapping.lightglue_width_confidence);
@@ -127,6 +132,24 @@ TEST(VoConfig, ProjectionSearchIsReadAndChecked) {
       FAIL() << "accepted " << bad;
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("projection_search"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(VoConfig, MonocularAlignmentKeysAreReadAndChecked) {
+  const VoConfig c = VoConfig::load(write_yaml(
+      "align", "mapping:\n  mono_align_to_origin: false\n  mono_align_max_shift_px: 1.5\n  mono_align_levels: 2\n"
+               "  mono_align_cache_keyframes: 8\n"));
+  EXPECT_FALSE(c.mapping.mono_align_to_origin);
+  EXPECT_DOUBLE_EQ(c.mapping.mono_align_max_shift_px, 1.5);
+  EXPECT_EQ(c.mapping.mono_align_levels, 2);
+  EXPECT_EQ(c.mapping.mono_align_cache_keyframes, 8);
+  for (const char* bad : {"mono_align_max_shift_px: 0", "mono_align_levels: -1", "mono_align_min_noise: -1", "mono_align_cache_keyframes: 0"}) {
+    try {
+      VoConfig::load(write_yaml("badalign", std::string("mapping:\n  ") + bad + "\n"));
+      FAIL() << "accepted " << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("mono_align"), std::string::npos) << e.what();
     }
   }
 }

@@ -54,7 +54,7 @@ KeyframeProcessor::KeyframeProcessor(const VoConfig& config, const Pinhole& came
       frontend_(make_point_frontend(config.frontend)),
       matcher_(make_keyframe_matcher(config.mapping, frontend_->name())),
       frontend_name_(frontend_->name()),
-      stereo_tracker_(config.klt) {
+      klt_(config.klt) {
   if (config_.pipeline.lines)
     line_mapper_ = std::make_unique<LineMapper>(config_.lines, config_.geometry.line_triangulation, camera_);
   // A monocular map has a free scale as well: two fixed keyframes pin it.
@@ -122,9 +122,9 @@ std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::stereo_points(con
   std::vector<cv::Point2f> pts;
   for (int i = 0; i < static_cast<int>(features.size()); ++i) which.push_back(i), pts.push_back(features.points[i]);
   if (pts.empty()) return out;
-  const ImagePyramid left = job.left_pyramid.empty() ? stereo_tracker_.build_pyramid(job.left) : job.left_pyramid;
-  const ImagePyramid right = stereo_tracker_.build_pyramid(job.right);
-  TrackResult tr = stereo_tracker_.track(left, right, pts);
+  const ImagePyramid left = job.left_pyramid.empty() ? klt_.build_pyramid(job.left) : job.left_pyramid;
+  const ImagePyramid right = klt_.build_pyramid(job.right);
+  TrackResult tr = klt_.track(left, right, pts);
   StereoRowMatchConfig row;
   row.window_px = config_.klt.window_px;
   row.min_horizontal_share = config_.klt.stereo_min_horizontal_share;
@@ -278,6 +278,47 @@ void KeyframeProcessor::reattach_by_projection(const geometry::Pose& T_world_cam
   stats_.add_sample("kf_reattached_points", reattached);
 }
 
+void KeyframeProcessor::remember_pyramid(Id keyframe, const KeyframeJob& job) {
+  if (baseline_ > 0 || !config_.mapping.mono_align_to_origin || job.left.empty()) return;
+  // A monocular start's reference keyframe comes without a pyramid.
+  keyframe_pyramids_[keyframe] = job.left_pyramid.empty() ? klt_.build_pyramid(job.left) : job.left_pyramid;
+  while (keyframe_pyramids_.size() > static_cast<size_t>(config_.mapping.mono_align_cache_keyframes))
+    keyframe_pyramids_.erase(keyframe_pyramids_.begin());
+}
+
+void KeyframeProcessor::align_to_origins(const KeyframeJob& job, PointFeatures& features, const std::vector<Id>& ids,
+                                         std::vector<Observation>& origins, std::vector<Observation>& previous) {
+  if (job.left_pyramid.empty()) return;
+  ScopedTimer t(stats_, "kf_align");
+  std::map<Id, std::vector<size_t>> by_origin;  // one LK call per origin keyframe
+  for (size_t i = 0; i < features.size(); ++i)
+    if (ids[i] == kNoId && origins[i].keyframe != kNoId && keyframe_pyramids_.count(origins[i].keyframe))
+      by_origin[origins[i].keyframe].push_back(i);
+  int aligned = 0, dropped = 0;
+  for (const auto& [kf, which] : by_origin) {
+    std::vector<cv::Point2f> from, to;
+    map_.read([&](const MapData& m) {
+      const auto& f = m.keyframes.at(kf).features;
+      for (size_t i : which) from.push_back(f.points[origins[i].index]), to.push_back(features.points[i]);
+    });
+    const auto ok = klt_.align(keyframe_pyramids_.at(kf), job.left_pyramid, from, to, config_.mapping.mono_align_levels,
+                               config_.mapping.mono_align_max_shift_px);
+    for (size_t k = 0; k < which.size(); ++k) {
+      const size_t i = which[k];
+      if (ok[k]) {
+        features.points[i] = to[k];
+        ++aligned;
+      } else {
+        // Not the origin's point, or too far from it: the track starts again from this keyframe.
+        origins[i] = previous[i] = Observation{};
+        ++dropped;
+      }
+    }
+  }
+  stats_.add_count("aligned_candidates", aligned);
+  stats_.add_count("alignment_dropped", dropped);
+}
+
 DetectedKeyframe KeyframeProcessor::detect_keyframe(const KeyframeJob& job) {
   ScopedTimer t(stats_, "kf_detect");
   std::vector<cv::Point2f> tracked;
@@ -342,6 +383,8 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
   }
 
   if (has_prev) reattach_by_projection(job.T_world_cam, features, ids, origins, previous);
+  if (job.right.empty() && config_.mapping.mono_align_to_origin && job.image_noise >= config_.mapping.mono_align_min_noise)
+    align_to_origins(job, features, ids, origins, previous);
 
   // Map points and the earlier views of candidates, read once.
   struct Views {
@@ -482,6 +525,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
     result.created_lines = LineMapper::commit(m, kid, line_plan);
   });
   segment_keyframes_.push_back(kid);
+  remember_pyramid(kid, job);
   result.ok = true;
   result.keyframe = kid;
   result.T_world_cam = job.T_world_cam;
@@ -559,6 +603,7 @@ KeyframeResult KeyframeProcessor::initialize_mono(const KeyframeJob& reference, 
     }
   });
   segment_keyframes_.push_back(kid);
+  remember_pyramid(kid, reference);
   stats_.add_count("keyframes");
   stats_.add_count("keyframes." + to_string(KeyframeReason::kInitialization));
   second.reason = KeyframeReason::kInitialization;

@@ -3,6 +3,7 @@
 // the map (KLT tracks, descriptor matches with the previous keyframe, and the recent keyframes'
 // points found by projection), new 3-D points
 // (stereo or two-view triangulation), and the sliding-window bundle adjustment.
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -36,6 +37,7 @@ struct KeyframeJob {
   ImagePyramid left_pyramid;   ///< built by the tracker for this frame
   geometry::Pose T_world_cam = geometry::Pose::Identity();
   KeyframeReason reason = KeyframeReason::kNone;
+  double image_noise = 0;            ///< the frame's pixel noise, grey levels (estimate_noise_sigma)
   std::vector<TrackedPoint> tracks;  ///< KLT tracks in this frame (map points and candidates)
   std::vector<TrackedLine> lines;    ///< lines tracked into this frame
   bool first = false;                ///< first keyframe of a map segment (stereo initialisation)
@@ -140,6 +142,13 @@ class KeyframeProcessor {
   void reattach_by_projection(const geometry::Pose& T_world_cam, const PointFeatures& features, std::vector<Id>& ids,
                               std::vector<Observation>& origins, std::vector<Observation>& previous);
 
+  /// mapping.mono_align_to_origin: each candidate feature moves onto its patch in its origin
+  /// keyframe (PointTracker::align); one that does not align loses its link and starts again here.
+  void align_to_origins(const KeyframeJob& job, PointFeatures& features, const std::vector<Id>& ids,
+                        std::vector<Observation>& origins, std::vector<Observation>& previous);
+  /// Keeps a monocular keyframe's tracking image for align_to_origins (the newest ones only).
+  void remember_pyramid(Id keyframe, const KeyframeJob& job);
+
   VoConfig config_;
   Pinhole camera_;
   double baseline_;
@@ -148,13 +157,14 @@ class KeyframeProcessor {
   std::unique_ptr<PointFrontend> frontend_;
   std::unique_ptr<KeyframeMatcher> matcher_;
   std::string frontend_name_;
-  PointTracker stereo_tracker_;
+  PointTracker klt_;  ///< the keyframe's own LK: stereo matching and origin alignment
   std::unique_ptr<LineMapper> line_mapper_;  ///< null when lines are off
   int segment_ = 0;
   int last_segment_ = 0;               ///< the highest segment number given out (a resumed one reuses its own)
   std::vector<Id> segment_keyframes_;  ///< keyframes of the current segment, oldest first
   int previous_segment_ = 0;           ///< the segment before the latest loss...
   std::vector<Id> previous_segment_keyframes_;  ///< ...and its keyframes (oldest first), until it resumes
+  std::map<Id, ImagePyramid> keyframe_pyramids_;  ///< newest monocular keyframes' tracking images (mono_align_to_origin)
 };
 
 }  // namespace pllvo::vo

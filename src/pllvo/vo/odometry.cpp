@@ -153,7 +153,7 @@ FrameRecord Odometry::process(const io::Frame& frame) {
     rectifier_.apply(frame, left, right);
     frame_brightness_ = cv::mean(left)[0];
     normalize_brightness(left, right);
-    image_noise = denoise(left, right);
+    image_noise = frame_noise_ = denoise(left, right);
   }
   ImagePyramid pyramid;
   {
@@ -234,6 +234,7 @@ KeyframeJob Odometry::make_keyframe_job(const io::Frame& frame, const cv::Mat& l
   job.left_pyramid = pyramid;
   job.T_world_cam = T_world_work_;
   job.reason = reason;
+  job.image_noise = frame_noise_;
   return job;
 }
 

@@ -186,6 +186,7 @@ class Odometry {
   double last_tracked_time_ = 0;
   std::deque<std::pair<size_t, Eigen::Vector3d>> recent_positions_;
   std::optional<Eigen::Vector3d> gap_step_world_;
+  double frame_noise_ = 0;       ///< pixel noise of the current left image (estimate_noise_sigma)
   double frame_brightness_ = 0;  ///< mean grey level of the current left image before normalisation
   int resets_ = 0;
   geometry::Pose T_work_cam0_;

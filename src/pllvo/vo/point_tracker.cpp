@@ -77,6 +77,25 @@ TrackResult PointTracker::track(const ImagePyramid& from, const ImagePyramid& to
   return result;
 }
 
+std::vector<unsigned char> PointTracker::align(const ImagePyramid& from, const ImagePyramid& to,
+                                               const std::vector<cv::Point2f>& reference,
+                                               std::vector<cv::Point2f>& positions, int levels,
+                                               double max_shift_px) const {
+  const size_t n = reference.size();
+  if (positions.size() != n) throw InternalError("PointTracker::align: one position per reference point");
+  std::vector<unsigned char> ok(n, 0);
+  if (n == 0 || from.empty() || to.empty()) return ok;
+  std::vector<cv::Point2f> aligned = positions;
+  std::vector<float> err;
+  cv::calcOpticalFlowPyrLK(from.levels(), to.levels(), reference, aligned, ok, err, window_, std::max(0, levels),
+                           criteria_, cv::OPTFLOW_USE_INITIAL_FLOW, config_.min_eigen_threshold);
+  for (size_t i = 0; i < n; ++i) {
+    ok[i] = ok[i] && cv::norm(aligned[i] - positions[i]) <= max_shift_px;
+    if (ok[i]) positions[i] = aligned[i];
+  }
+  return ok;
+}
+
 cv::Mat local_contrast(const cv::Mat& image, int window) {
   cv::Mat f, mean, mean_sq, out;
   image.convertTo(f, CV_32F);

@@ -47,6 +47,15 @@ class PointTracker {
   TrackResult track(const ImagePyramid& from, const ImagePyramid& to, const std::vector<cv::Point2f>& points,
                     const std::vector<cv::Point2f>* predicted = nullptr) const;
 
+  /// Moves each of `positions` (in `to`, e.g. where a frame-to-frame track ended) onto the patch
+  /// of its `reference` point in `from` by one LK alignment over `levels` pyramid levels above
+  /// the base. A point is aligned (ok) when LK converges within `max_shift_px` of where it
+  /// started; the others keep their position. One alignment against a fixed reference carries
+  /// its own error only, where a frame-to-frame track adds up the error of every step.
+  std::vector<unsigned char> align(const ImagePyramid& from, const ImagePyramid& to,
+                                   const std::vector<cv::Point2f>& reference, std::vector<cv::Point2f>& positions,
+                                   int levels, double max_shift_px) const;
+
  private:
   KltConfig config_;
   cv::Size window_;

@@ -113,6 +113,11 @@ void read_mapping(const ConfigNode& n, MappingConfig& c) {
   n.get("mono_ba_line_weight", c.mono_ba_line_weight);
   n.get("mono_baseline_parallax_gate", c.mono_baseline_parallax_gate);
   n.get("mono_point_min_parallax_deg", c.mono_point_min_parallax_deg);
+  n.get("mono_align_to_origin", c.mono_align_to_origin);
+  n.get("mono_align_min_noise", c.mono_align_min_noise);
+  n.get("mono_align_max_shift_px", c.mono_align_max_shift_px);
+  n.get("mono_align_levels", c.mono_align_levels);
+  n.get("mono_align_cache_keyframes", c.mono_align_cache_keyframes);
   const ConfigNode ps = n.child("projection_search");
   ps.get("enabled", c.projection_search.enabled);
   ps.get("keyframes", c.projection_search.keyframes);
@@ -273,6 +278,10 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(ps.max_hamming > 0, file, "mapping.projection_search.max_hamming", "must be > 0");
   require(ps.ratio > 0 && ps.ratio <= 1, file, "mapping.projection_search.ratio", "must be in (0, 1]");
   require(mapping.mono_point_min_parallax_deg >= 0, file, "mapping.mono_point_min_parallax_deg", "must not be negative");
+  require(mapping.mono_align_min_noise >= 0, file, "mapping.mono_align_min_noise", "must not be negative");
+  require(mapping.mono_align_max_shift_px > 0, file, "mapping.mono_align_max_shift_px", "must be positive");
+  require(mapping.mono_align_levels >= 0, file, "mapping.mono_align_levels", "must not be negative");
+  require(mapping.mono_align_cache_keyframes >= 1, file, "mapping.mono_align_cache_keyframes", "must be at least 1");
   require(klt.min_ncc >= -1 && klt.min_ncc <= 1, file, "klt.min_ncc", "must be in [-1, 1]");
   require(frontend.min_corner_ratio >= 0 && frontend.min_corner_ratio < 1, file, "frontend.min_corner_ratio",
           "must be in [0, 1) (0: off)");

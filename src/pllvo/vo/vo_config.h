@@ -279,6 +279,20 @@ struct MappingConfig {
   /// Under that gate, each point still needs this angle between its own rays (deg): far points
   /// with almost parallel rays get depths of pure noise.
   double mono_point_min_parallax_deg = 0.5;
+  /// Monocular runs: a candidate's position in a new keyframe is aligned (LK) to its patch in
+  /// the keyframe where its track began. Its observations then carry one alignment's error
+  /// each, instead of the error that a frame-to-frame track adds up over its frames; a candidate
+  /// that does not align within mono_align_max_shift_px (a wrong link, a track that slid) starts
+  /// again from the new keyframe. Descriptor links in the dark were 16 % within 2 px of the true
+  /// geometry, KLT links 44 %; aligned, 61 % and 80 % (docs/vo.md, session 25).
+  bool mono_align_to_origin = true;
+  /// ...on keyframes whose image noise (grey levels) reaches this: low light (synthetic normal
+  /// light 0.5-2.8, low light 4.1-9). In normal light the tracks drift little, and the dropped
+  /// links cost the plain room's sparse map more than the alignment gives (session 25). 0: always.
+  double mono_align_min_noise = 3.5;
+  double mono_align_max_shift_px = 2.0;
+  int mono_align_levels = 1;             ///< LK pyramid levels above the base for the alignment
+  int mono_align_cache_keyframes = 40;   ///< newest keyframes whose images are kept for it
   ProjectionSearchConfig projection_search;
 };
 
