@@ -144,7 +144,8 @@ TEST(VoConfig, MonocularAlignmentKeysAreReadAndChecked) {
   EXPECT_DOUBLE_EQ(c.mapping.mono_align_max_shift_px, 1.5);
   EXPECT_EQ(c.mapping.mono_align_levels, 2);
   EXPECT_EQ(c.mapping.mono_align_cache_keyframes, 8);
-  for (const char* bad : {"mono_align_max_shift_px: 0", "mono_align_levels: -1", "mono_align_min_noise: -1", "mono_align_cache_keyframes: 0"}) {
+  for (const char* bad : {"mono_align_max_shift_px: 0", "mono_align_levels: -1", "mono_align_min_noise: -1",
+                          "mono_align_cache_keyframes: 0"}) {
     try {
       VoConfig::load(write_yaml("badalign", std::string("mapping:\n  ") + bad + "\n"));
       FAIL() << "accepted " << bad;

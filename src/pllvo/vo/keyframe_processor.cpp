@@ -298,9 +298,14 @@ void KeyframeProcessor::align_to_origins(const KeyframeJob& job, PointFeatures& 
   for (const auto& [kf, which] : by_origin) {
     std::vector<cv::Point2f> from, to;
     map_.read([&](const MapData& m) {
-      const auto& f = m.keyframes.at(kf).features;
-      for (size_t i : which) from.push_back(f.points[origins[i].index]), to.push_back(features.points[i]);
+      const auto it = m.keyframes.find(kf);
+      if (it == m.keyframes.end()) return;
+      for (size_t i : which) {
+        from.push_back(it->second.features.points[origins[i].index]);
+        to.push_back(features.points[i]);
+      }
     });
+    if (from.empty()) continue;
     const auto ok = klt_.align(keyframe_pyramids_.at(kf), job.left_pyramid, from, to, config_.mapping.mono_align_levels,
                                config_.mapping.mono_align_max_shift_px);
     for (size_t k = 0; k < which.size(); ++k) {
@@ -383,8 +388,9 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
   }
 
   if (has_prev) reattach_by_projection(job.T_world_cam, features, ids, origins, previous);
-  if (job.right.empty() && config_.mapping.mono_align_to_origin && job.image_noise >= config_.mapping.mono_align_min_noise)
-    align_to_origins(job, features, ids, origins, previous);
+  const bool align = job.right.empty() && config_.mapping.mono_align_to_origin &&
+                     job.image_noise >= config_.mapping.mono_align_min_noise;
+  if (align) align_to_origins(job, features, ids, origins, previous);
 
   // Map points and the earlier views of candidates, read once.
   struct Views {

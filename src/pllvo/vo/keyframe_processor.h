@@ -164,7 +164,7 @@ class KeyframeProcessor {
   std::vector<Id> segment_keyframes_;  ///< keyframes of the current segment, oldest first
   int previous_segment_ = 0;           ///< the segment before the latest loss...
   std::vector<Id> previous_segment_keyframes_;  ///< ...and its keyframes (oldest first), until it resumes
-  std::map<Id, ImagePyramid> keyframe_pyramids_;  ///< newest monocular keyframes' tracking images (mono_align_to_origin)
+  std::map<Id, ImagePyramid> keyframe_pyramids_;  ///< newest mono keyframes' images (mono_align_to_origin)
 };
 
 }  // namespace pllvo::vo
