@@ -160,7 +160,8 @@ TEST(PointTracker, AlignmentToTheReferenceRemovesAccumulatedDrift) {
     const double angle = 0.9 * static_cast<double>(i), off = 0.7 + 0.1 * static_cast<double>(i % 8);
     positions.emplace_back(reference[i].x + dx + off * std::cos(angle), reference[i].y + dy + off * std::sin(angle));
   }
-  const auto ok = tracker.align(pa, pb, reference, positions, 1, 3.0);
+  // The reference as the VO keeps it (no derivatives); LK computes them itself.
+  const auto ok = tracker.align(tracker.reference_levels(a, 1), pb, reference, positions, 1, 3.0);
   ASSERT_EQ(ok.size(), reference.size());
   int aligned = 0;
   double sum_sq = 0;
@@ -187,13 +188,13 @@ TEST(PointTracker, AlignmentRefusesLargeCorrections) {
   std::vector<cv::Point2f> positions;
   for (const auto& p : reference) positions.emplace_back(p.x + 2.0f + 5.0f, p.y + 1.0f);  // 5 px off
   const std::vector<cv::Point2f> before = positions;
-  const auto ok = tracker.align(pa, pb, reference, positions, 1, 2.0);
+  const auto ok = tracker.align(pa.levels(), pb, reference, positions, 1, 2.0);
   for (size_t i = 0; i < reference.size(); ++i) {
     EXPECT_FALSE(ok[i]) << i;
     EXPECT_EQ(positions[i], before[i]) << i;
   }
   std::vector<cv::Point2f> wrong_size(reference.size() - 1);
-  EXPECT_THROW(tracker.align(pa, pb, reference, wrong_size, 1, 2.0), InternalError);
+  EXPECT_THROW(tracker.align(pa.levels(), pb, reference, wrong_size, 1, 2.0), InternalError);
 }
 
 TEST(PointTracker, ForwardBackwardCheckRejectsOccludedPoints) {

@@ -278,12 +278,11 @@ void KeyframeProcessor::reattach_by_projection(const geometry::Pose& T_world_cam
   stats_.add_sample("kf_reattached_points", reattached);
 }
 
-void KeyframeProcessor::remember_pyramid(Id keyframe, const KeyframeJob& job) {
+void KeyframeProcessor::remember_image(Id keyframe, const KeyframeJob& job) {
   if (baseline_ > 0 || !config_.mapping.mono_align_to_origin || job.left.empty()) return;
-  // A monocular start's reference keyframe comes without a pyramid.
-  keyframe_pyramids_[keyframe] = job.left_pyramid.empty() ? klt_.build_pyramid(job.left) : job.left_pyramid;
-  while (keyframe_pyramids_.size() > static_cast<size_t>(config_.mapping.mono_align_cache_keyframes))
-    keyframe_pyramids_.erase(keyframe_pyramids_.begin());
+  keyframe_images_[keyframe] = klt_.reference_levels(job.left, config_.mapping.mono_align_levels);
+  while (keyframe_images_.size() > static_cast<size_t>(config_.mapping.mono_align_cache_keyframes))
+    keyframe_images_.erase(keyframe_images_.begin());
 }
 
 void KeyframeProcessor::align_to_origins(const KeyframeJob& job, PointFeatures& features, const std::vector<Id>& ids,
@@ -292,7 +291,7 @@ void KeyframeProcessor::align_to_origins(const KeyframeJob& job, PointFeatures& 
   ScopedTimer t(stats_, "kf_align");
   std::map<Id, std::vector<size_t>> by_origin;  // one LK call per origin keyframe
   for (size_t i = 0; i < features.size(); ++i)
-    if (ids[i] == kNoId && origins[i].keyframe != kNoId && keyframe_pyramids_.count(origins[i].keyframe))
+    if (ids[i] == kNoId && origins[i].keyframe != kNoId && keyframe_images_.count(origins[i].keyframe))
       by_origin[origins[i].keyframe].push_back(i);
   int aligned = 0, dropped = 0;
   for (const auto& [kf, which] : by_origin) {
@@ -306,7 +305,7 @@ void KeyframeProcessor::align_to_origins(const KeyframeJob& job, PointFeatures& 
       }
     });
     if (from.empty()) continue;
-    const auto ok = klt_.align(keyframe_pyramids_.at(kf), job.left_pyramid, from, to, config_.mapping.mono_align_levels,
+    const auto ok = klt_.align(keyframe_images_.at(kf), job.left_pyramid, from, to, config_.mapping.mono_align_levels,
                                config_.mapping.mono_align_max_shift_px);
     for (size_t k = 0; k < which.size(); ++k) {
       const size_t i = which[k];
@@ -531,7 +530,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
     result.created_lines = LineMapper::commit(m, kid, line_plan);
   });
   segment_keyframes_.push_back(kid);
-  remember_pyramid(kid, job);
+  remember_image(kid, job);
   result.ok = true;
   result.keyframe = kid;
   result.T_world_cam = job.T_world_cam;
@@ -609,7 +608,7 @@ KeyframeResult KeyframeProcessor::initialize_mono(const KeyframeJob& reference, 
     }
   });
   segment_keyframes_.push_back(kid);
-  remember_pyramid(kid, reference);
+  remember_image(kid, reference);
   stats_.add_count("keyframes");
   stats_.add_count("keyframes." + to_string(KeyframeReason::kInitialization));
   second.reason = KeyframeReason::kInitialization;

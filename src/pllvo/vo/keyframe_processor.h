@@ -147,7 +147,7 @@ class KeyframeProcessor {
   void align_to_origins(const KeyframeJob& job, PointFeatures& features, const std::vector<Id>& ids,
                         std::vector<Observation>& origins, std::vector<Observation>& previous);
   /// Keeps a monocular keyframe's tracking image for align_to_origins (the newest ones only).
-  void remember_pyramid(Id keyframe, const KeyframeJob& job);
+  void remember_image(Id keyframe, const KeyframeJob& job);
 
   VoConfig config_;
   Pinhole camera_;
@@ -164,7 +164,8 @@ class KeyframeProcessor {
   std::vector<Id> segment_keyframes_;  ///< keyframes of the current segment, oldest first
   int previous_segment_ = 0;           ///< the segment before the latest loss...
   std::vector<Id> previous_segment_keyframes_;  ///< ...and its keyframes (oldest first), until it resumes
-  std::map<Id, ImagePyramid> keyframe_pyramids_;  ///< newest mono keyframes' images (mono_align_to_origin)
+  /// Newest mono keyframes' images as PointTracker::reference_levels (mono_align_to_origin).
+  std::map<Id, std::vector<cv::Mat>> keyframe_images_;
 };
 
 }  // namespace pllvo::vo

@@ -77,7 +77,13 @@ TrackResult PointTracker::track(const ImagePyramid& from, const ImagePyramid& to
   return result;
 }
 
-std::vector<unsigned char> PointTracker::align(const ImagePyramid& from, const ImagePyramid& to,
+std::vector<cv::Mat> PointTracker::reference_levels(const cv::Mat& image, int levels) const {
+  std::vector<cv::Mat> out;
+  if (!image.empty()) cv::buildOpticalFlowPyramid(image, out, window_, std::max(0, levels), false);
+  return out;
+}
+
+std::vector<unsigned char> PointTracker::align(const std::vector<cv::Mat>& from, const ImagePyramid& to,
                                                const std::vector<cv::Point2f>& reference,
                                                std::vector<cv::Point2f>& positions, int levels,
                                                double max_shift_px) const {
@@ -87,7 +93,7 @@ std::vector<unsigned char> PointTracker::align(const ImagePyramid& from, const I
   if (n == 0 || from.empty() || to.empty()) return ok;
   std::vector<cv::Point2f> aligned = positions;
   std::vector<float> err;
-  cv::calcOpticalFlowPyrLK(from.levels(), to.levels(), reference, aligned, ok, err, window_, std::max(0, levels),
+  cv::calcOpticalFlowPyrLK(from, to.levels(), reference, aligned, ok, err, window_, std::max(0, levels),
                            criteria_, cv::OPTFLOW_USE_INITIAL_FLOW, config_.min_eigen_threshold);
   for (size_t i = 0; i < n; ++i) {
     ok[i] = ok[i] && cv::norm(aligned[i] - positions[i]) <= max_shift_px;

@@ -52,9 +52,13 @@ class PointTracker {
   /// the base. A point is aligned (ok) when LK converges within `max_shift_px` of where it
   /// started; the others keep their position. One alignment against a fixed reference carries
   /// its own error only, where a frame-to-frame track adds up the error of every step.
-  std::vector<unsigned char> align(const ImagePyramid& from, const ImagePyramid& to,
+  /// `from`: the reference image's pyramid levels, with or without derivatives (reference_levels()).
+  std::vector<unsigned char> align(const std::vector<cv::Mat>& from, const ImagePyramid& to,
                                    const std::vector<cv::Point2f>& reference, std::vector<cv::Point2f>& positions,
                                    int levels, double max_shift_px) const;
+  /// An image's pyramid for align(): `levels` levels above the base, padded for this tracker's
+  /// window, without derivatives (a fifth of an ImagePyramid's memory; LK derives them itself).
+  std::vector<cv::Mat> reference_levels(const cv::Mat& image, int levels) const;
 
  private:
   KltConfig config_;
