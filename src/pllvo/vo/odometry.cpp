@@ -147,13 +147,12 @@ FrameRecord Odometry::process(const io::Frame& frame) {
   record.index = frame.index;
   record.timestamp = frame.timestamp;
   cv::Mat left, right;
-  double image_noise = 0;
   {
     ScopedTimer t(stats_, "rectify");
     rectifier_.apply(frame, left, right);
     frame_brightness_ = cv::mean(left)[0];
     normalize_brightness(left, right);
-    image_noise = frame_noise_ = denoise(left, right);
+    frame_noise_ = denoise(left, right);
   }
   ImagePyramid pyramid;
   {
@@ -163,7 +162,7 @@ FrameRecord Odometry::process(const io::Frame& frame) {
                          : tracker_.build_pyramid(left);
   }
   if (config_.run.wait_when_starving && state_ == TrackingState::kTracking && !worker_.idle() &&
-      count_mapped(tracks_) < config_.run.starving_points_at(image_noise)) {
+      count_mapped(tracks_) < config_.run.starving_points_at(frame_noise_)) {
     ScopedTimer t(stats_, "starved_wait");
     worker_.wait_idle();
     stats_.add_count("starved_waits");
