@@ -74,6 +74,12 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.pose.extrapolate_velocity_frames, code.pose.extrapolate_velocity_frames);
   EXPECT_EQ(file.pose.relocalise_min_inliers, code.pose.relocalise_min_inliers);
   EXPECT_DOUBLE_EQ(file.pose.mono_resume_max_s, code.pose.mono_resume_max_s);
+  EXPECT_EQ(file.pose.mono_frame_motion_min_inliers, code.pose.mono_frame_motion_min_inliers);
+  EXPECT_EQ(file.pose.mono_frame_motion_max_frames, code.pose.mono_frame_motion_max_frames);
+  EXPECT_DOUBLE_EQ(file.pose.mono_frame_motion_max_rotation_change_deg, code.pose.mono_frame_motion_max_rotation_change_deg);
+  EXPECT_DOUBLE_EQ(file.pose.mono_frame_motion_max_translation_change_deg,
+                   code.pose.mono_frame_motion_max_translation_change_deg);
+  EXPECT_DOUBLE_EQ(file.pose.mono_frame_motion_translation_sigma_deg, code.pose.mono_frame_motion_translation_sigma_deg);
   EXPECT_EQ(file.pose.relocalise_keyframes, code.pose.relocalise_keyframes);
   EXPECT_EQ(file.run.wait_when_starving, code.run.wait_when_starving);
   EXPECT_EQ(file.frontend.superpoint_conv_layout, code.frontend.superpoint_conv_layout);
@@ -151,6 +157,28 @@ TEST(VoConfig, MonocularAlignmentKeysAreReadAndChecked) {
       FAIL() << "accepted " << bad;
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("mono_align"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(VoConfig, FrameMotionKeysAreReadAndChecked) {
+  const VoConfig c = VoConfig::load(write_yaml(
+      "framemotion", "pose:\n  mono_frame_motion_min_inliers: 0\n  mono_frame_motion_max_frames: 3\n"
+                     "  mono_frame_motion_max_rotation_change_deg: 8\n  mono_frame_motion_max_translation_change_deg: 30\n"
+                     "  mono_frame_motion_translation_sigma_deg: 0\n"));
+  EXPECT_EQ(c.pose.mono_frame_motion_min_inliers, 0);
+  EXPECT_EQ(c.pose.mono_frame_motion_max_frames, 3);
+  EXPECT_DOUBLE_EQ(c.pose.mono_frame_motion_max_rotation_change_deg, 8.0);
+  EXPECT_DOUBLE_EQ(c.pose.mono_frame_motion_max_translation_change_deg, 30.0);
+  EXPECT_DOUBLE_EQ(c.pose.mono_frame_motion_translation_sigma_deg, 0.0);
+  for (const char* bad : {"mono_frame_motion_min_inliers: 5", "mono_frame_motion_max_frames: 0",
+                          "mono_frame_motion_max_rotation_change_deg: 0", "mono_frame_motion_max_translation_change_deg: .nan",
+                          "mono_frame_motion_translation_sigma_deg: -1"}) {
+    try {
+      VoConfig::load(write_yaml("badframemotion", std::string("pose:\n  ") + bad + "\n"));
+      FAIL() << "accepted " << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("mono_frame_motion"), std::string::npos) << e.what();
     }
   }
 }

@@ -23,6 +23,8 @@ constexpr double kChi2TwoDof = 5.991;  // 95% bound of a 2-D squared error in si
 constexpr double kRadToDeg = 180.0 / M_PI;
 // Below this parallax the sign of a triangulated depth is noise (ORB-SLAM's cos 0.99998).
 constexpr double kCheiralityMinParallaxDeg = 0.36;
+// Standard deviation that holds a translation direction in place in refine_motion.
+constexpr double kFixedDirectionSigmaDeg = 0.01;
 
 Eigen::Vector3d homogeneous(const Eigen::Vector2d& x) { return {x.x(), x.y(), 1.0}; }
 
@@ -102,12 +104,25 @@ struct SampsonError {
   }
 };
 
+/// Pulls a unit translation towards an expected direction: (t - t_expected) / sigma, in the
+/// Sampson residuals' units (sigma_px per standard deviation).
+struct DirectionPrior {
+  Eigen::Vector3d expected;
+  double scale;  ///< sigma_px / sigma (radians)
+
+  template <typename T>
+  bool operator()(const T* t, T* residual) const {
+    for (int k = 0; k < 3; ++k) residual[k] = T(scale) * (t[k] - T(expected[k]));
+    return true;
+  }
+};
+
 /// Refines (R, unit t) on the inliers' Sampson errors: the RANSAC models come from minimal
 /// samples and are noticeably off; this is a two-view bundle adjustment with the points
-/// eliminated to first order.
+/// eliminated to first order. With `prior`, t is also pulled towards prior->expected.
 void refine_motion(Eigen::Matrix3d& R, Eigen::Vector3d& t, std::span<const Eigen::Vector2d> xy0,
                    std::span<const Eigen::Vector2d> xy1, const std::vector<uint8_t>& inliers, double focal_px,
-                   double sigma_px) {
+                   double sigma_px, const DirectionPrior* prior = nullptr) {
   Eigen::Quaterniond q(R);
   double q_xyzw[4] = {q.x(), q.y(), q.z(), q.w()};
   double tt[3] = {t.x(), t.y(), t.z()};
@@ -123,6 +138,9 @@ void refine_motion(Eigen::Matrix3d& R, Eigen::Vector3d& t, std::span<const Eigen
     delete loss;
     return;
   }
+  if (prior)
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<DirectionPrior, 3, 3>(new DirectionPrior(*prior)),
+                             nullptr, tt);
   problem.SetManifold(q_xyzw, new ceres::EigenQuaternionManifold);
   problem.SetManifold(tt, new ceres::SphereManifold<3>);
   ceres::Solver::Options options;
@@ -329,6 +347,77 @@ TwoViewResult initialise_two_view(std::span<const Eigen::Vector2d> xy0,
   out.num_triangulated =
       static_cast<int>(std::count(final_motion.triangulated.begin(), final_motion.triangulated.end(), 1));
   out.median_parallax_deg = final_motion.median_parallax_deg;
+  return out;
+}
+
+RelativeMotion estimate_relative_motion(std::span<const Eigen::Vector2d> xy0,
+                                        std::span<const Eigen::Vector2d> xy1, double focal_px,
+                                        const Pose& expected_T_cam1_cam0, const RelativeMotionLimits& limits,
+                                        const TwoViewConfig& config) {
+  RelativeMotion out;
+  const size_t n = xy0.size();
+  out.inliers.assign(n, 0);
+  if (n != xy1.size() || static_cast<int>(n) < std::max(limits.min_inliers, 8)) {
+    out.failure = "too few matches";
+    return out;
+  }
+  Eigen::Matrix3d E = Eigen::Matrix3d::Zero();
+  try {
+    const cv::Mat E_cv = cv::findEssentialMat(to_cv(xy0), to_cv(xy1), cv::Mat::eye(3, 3, CV_64F), cv::RANSAC,
+                                              config.ransac_confidence, config.ransac_threshold_px / focal_px,
+                                              config.ransac_max_iterations);
+    if (E_cv.rows != 3 || E_cv.cols != 3) {
+      out.failure = "no essential matrix";
+      return out;
+    }
+    cv::cv2eigen(E_cv, E);
+  } catch (const cv::Exception&) {
+    out.failure = "no essential matrix";
+    return out;
+  }
+  score_essential(E, xy0, xy1, focal_px, config.sigma_px, out.inliers);
+  std::vector<Candidate> candidates = essential_candidates(E);
+  const double max_error = config.max_reprojection_error_px / focal_px;
+  for (auto& c : candidates) evaluate(c, xy0, xy1, out.inliers, max_error, config);
+  const Candidate& best = *std::max_element(candidates.begin(), candidates.end(),
+      [](const Candidate& a, const Candidate& b) { return a.informative < b.informative; });
+  const Eigen::Vector3d t_expected = expected_T_cam1_cam0.translation();
+  // A refinement from the winner, its translation pulled towards the expected direction with
+  // standard deviation sigma_deg (0: free), judged against the limits.
+  auto fit = [&](const Eigen::Vector3d& t_start, double sigma_deg) {
+    Eigen::Matrix3d R = best.R;
+    Eigen::Vector3d t = t_start;
+    if (t_expected.norm() > 0 && sigma_deg > 0) {
+      const DirectionPrior prior{t_expected.normalized(), config.sigma_px / (sigma_deg / kRadToDeg)};
+      refine_motion(R, t, xy0, xy1, out.inliers, focal_px, config.sigma_px, &prior);
+    } else {
+      refine_motion(R, t, xy0, xy1, out.inliers, focal_px, config.sigma_px);
+    }
+    score_essential(hat(t) * R, xy0, xy1, focal_px, config.sigma_px, out.inliers);
+    out.num_inliers = static_cast<int>(std::count(out.inliers.begin(), out.inliers.end(), 1));
+    out.T_cam1_cam0 = make_pose(R, t);
+    out.rotation_from_expected_deg = rotation_angle(R * expected_T_cam1_cam0.linear().transpose()) * kRadToDeg;
+    out.translation_from_expected_deg =
+        t_expected.norm() > 0 ? std::acos(std::clamp(t.dot(t_expected.normalized()), -1.0, 1.0)) * kRadToDeg : 0.0;
+    out.failure.clear();
+    if (out.num_inliers < limits.min_inliers) {
+      out.failure = "too few inliers";
+    } else if (out.rotation_from_expected_deg > limits.max_rotation_change_deg) {
+      out.failure = "rotation far from the expected one";
+    } else if (out.translation_from_expected_deg > limits.max_translation_change_deg) {
+      out.failure = "translation far from the expected direction";
+    }
+  };
+  fit(best.t, limits.translation_prior_sigma_deg);
+  if (out.failure == "translation far from the expected direction" && limits.keep_expected_translation) {
+    // The matches do not tell the direction (too little parallax, or too few of them): the
+    // rotation alone is measured, the translation kept as expected.
+    const std::vector<uint8_t> essential_inliers = out.inliers;
+    fit(t_expected.normalized(), kFixedDirectionSigmaDeg);
+    if (!out.failure.empty()) out.inliers = essential_inliers;
+    out.translation_kept = true;
+  }
+  out.ok = out.failure.empty();
   return out;
 }
 

@@ -66,6 +66,42 @@ TwoViewResult initialise_two_view(std::span<const Eigen::Vector2d> xy0,
                                   std::span<const Eigen::Vector2d> xy1, double focal_px,
                                   const TwoViewConfig& config = {});
 
+/// Motion between two consecutive frames of a monocular camera, for tracking through a stretch
+/// where the map has no points in view (a fast turn): translation of unit length, its scale to
+/// be taken from elsewhere (the last velocity).
+struct RelativeMotion {
+  bool ok = false;
+  Pose T_cam1_cam0 = Pose::Identity();  ///< |translation| = 1
+  std::vector<uint8_t> inliers;         ///< matches within the essential matrix's score bound
+  int num_inliers = 0;
+  double rotation_from_expected_deg = 0, translation_from_expected_deg = 0;
+  bool translation_kept = false;  ///< the translation is the expected one (see keep_expected_translation)
+  std::string failure;  ///< why ok is false
+};
+
+struct RelativeMotionLimits {
+  int min_inliers = 30;
+  /// The chosen motion may differ from the expected one (constant velocity) by at most this
+  /// much: over one frame's baseline a wrong fit is more likely than such a change of motion.
+  double max_rotation_change_deg = 5.0;
+  double max_translation_change_deg = 45.0;
+  /// Over one frame's baseline the translation's direction is weakly determined: the
+  /// refinement pulls it towards the expected one with this standard deviation (0: no pull).
+  double translation_prior_sigma_deg = 15.0;
+  /// When the measured direction is too far from the expected one, fit the rotation alone with
+  /// the expected direction, instead of failing.
+  bool keep_expected_translation = true;
+};
+
+/// The essential matrix (RANSAC, config's thresholds) between xy0[i] <-> xy1[i], the
+/// decomposition that puts most informative points in front of both views, refined on its
+/// inliers' Sampson errors with the expected translation direction as a prior; checked against
+/// the expected motion.
+RelativeMotion estimate_relative_motion(std::span<const Eigen::Vector2d> xy0,
+                                        std::span<const Eigen::Vector2d> xy1, double focal_px,
+                                        const Pose& expected_T_cam1_cam0, const RelativeMotionLimits& limits,
+                                        const TwoViewConfig& config = {});
+
 /// ORB-SLAM's model score: sum over matches and both directions of (5.99 - d^2 / sigma^2)
 /// where d^2 / sigma^2 is below the model's chi-square threshold, 0 elsewhere; `inliers`
 /// flags matches within the threshold in both directions. d is in pixels (normalised * focal).

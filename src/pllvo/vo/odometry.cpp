@@ -565,6 +565,10 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
       estimate = estimate_pose(camera_, pts, px, line_measurements, T_world_pred, config_.geometry, weak);
       if (estimate.ok) stats_.add_count("prior_supported_poses");
     }
+    const bool by_frame_motion = !estimate.ok;
+    if (by_frame_motion) estimate = pose_from_frame_motion(frame.index, from, tr, which, line_measurements.size());
+    frame_motion_run_ = estimate.ok && by_frame_motion ? frame_motion_run_ + 1 : 0;
+    if (estimate.ok && by_frame_motion) stats_.add_count("frame_motion_poses");
   }
 
   // Keep the tracks that survived KLT (and, on success, the pose's inlier test); candidates
@@ -613,6 +617,50 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
 
   maybe_make_keyframe(frame, left, right, pyramid, estimate.num_point_inliers);
   return true;
+}
+
+PoseEstimate Odometry::pose_from_frame_motion(size_t frame_index, const std::vector<cv::Point2f>& from,
+                                              const TrackResult& tr, const std::vector<size_t>& map_tracks,
+                                              size_t num_lines) const {
+  const PoseConfig& c = config_.pose;
+  PoseEstimate est;
+  // The previous frame must have its pose: the motion is measured from it.
+  if (rectifier_.stereo() || c.mono_frame_motion_min_inliers <= 0 || !has_velocity_ || lost_frames_ > 0 ||
+      frame_motion_run_ >= c.mono_frame_motion_max_frames)
+    return est;
+  std::vector<Eigen::Vector2d> xy0, xy1;
+  std::vector<int> match_of_track(from.size(), -1);
+  for (size_t i = 0; i < from.size(); ++i) {
+    if (!tr.ok[i]) continue;
+    match_of_track[i] = static_cast<int>(xy0.size());
+    xy0.push_back(camera_.normalised(to_eigen(from[i])));
+    xy1.push_back(camera_.normalised(to_eigen(tr.points[i])));
+  }
+  geometry::RelativeMotionLimits limits;
+  limits.min_inliers = c.mono_frame_motion_min_inliers;
+  limits.max_rotation_change_deg = c.mono_frame_motion_max_rotation_change_deg;
+  limits.max_translation_change_deg = c.mono_frame_motion_max_translation_change_deg;
+  limits.translation_prior_sigma_deg = c.mono_frame_motion_translation_sigma_deg;
+  const geometry::RelativeMotion m = geometry::estimate_relative_motion(
+      xy0, xy1, camera_.focal(), velocity_.inverse(), limits, config_.geometry.two_view);
+  spdlog::debug("frame {}: motion from the previous frame {}: {} of {} tracks fit, {:.1f} deg from the last "
+                "rotation, {:.0f} deg from the last direction{}{}{}",
+                frame_index, m.ok ? "taken" : "refused", m.num_inliers, xy0.size(), m.rotation_from_expected_deg,
+                m.translation_from_expected_deg, m.translation_kept ? " (direction kept)" : "", m.ok ? "" : ": ",
+                m.failure);
+  if (!m.ok) return est;
+  geometry::Pose T_cur_prev = m.T_cam1_cam0;
+  T_cur_prev.translation() *= velocity_.translation().norm();
+  est.ok = true;
+  est.T_world_cam = T_world_work_ * T_cur_prev.inverse();
+  for (size_t i : map_tracks) {
+    const bool inlier = match_of_track[i] >= 0 && m.inliers[match_of_track[i]];
+    est.point_inliers.push_back(inlier);
+    est.num_point_inliers += inlier;
+  }
+  // The map's lines were not part of this estimate: keep their tracks for the next frame.
+  est.line_inliers.assign(num_lines, 1);
+  return est;
 }
 
 void Odometry::maybe_make_keyframe(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,

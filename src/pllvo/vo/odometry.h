@@ -101,6 +101,12 @@ class Odometry {
                         const ImagePyramid& pyramid, FrameRecord& record);
   bool track(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right, const ImagePyramid& pyramid,
              FrameRecord& record);
+  /// Monocular frame whose pose failed on the map: the motion from the previous frame by the
+  /// essential matrix of every track that KLT followed (`from` -> tr.points), scaled by the last
+  /// velocity (pose.mono_frame_motion_*). point_inliers are given per entry of `map_tracks`.
+  PoseEstimate pose_from_frame_motion(size_t frame_index, const std::vector<cv::Point2f>& from,
+                                      const TrackResult& tr, const std::vector<size_t>& map_tracks,
+                                      size_t num_lines) const;
   void maybe_make_keyframe(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
                            const ImagePyramid& pyramid, int tracked_points);
   void submit_keyframe(KeyframeJob job);
@@ -180,6 +186,7 @@ class Odometry {
   geometry::Pose velocity_ = geometry::Pose::Identity();  ///< T_prev_cur of the last tracked step
   bool has_velocity_ = false;
   int lost_frames_ = 0;
+  int frame_motion_run_ = 0;  ///< consecutive frames posed by pose_from_frame_motion
   /// The last tracked frame, and the mean position step per frame before it, kept over a reset
   /// (restart_pose), from the positions of the last consecutive tracked frames.
   size_t last_tracked_index_ = 0;

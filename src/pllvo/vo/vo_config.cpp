@@ -96,6 +96,11 @@ void read_pose(const ConfigNode& n, PoseConfig& c) {
   n.get("relocalise_min_inliers", c.relocalise_min_inliers);
   n.get("relocalise_keyframes", c.relocalise_keyframes);
   n.get("mono_resume_max_s", c.mono_resume_max_s);
+  n.get("mono_frame_motion_min_inliers", c.mono_frame_motion_min_inliers);
+  n.get("mono_frame_motion_max_frames", c.mono_frame_motion_max_frames);
+  n.get("mono_frame_motion_max_rotation_change_deg", c.mono_frame_motion_max_rotation_change_deg);
+  n.get("mono_frame_motion_max_translation_change_deg", c.mono_frame_motion_max_translation_change_deg);
+  n.get("mono_frame_motion_translation_sigma_deg", c.mono_frame_motion_translation_sigma_deg);
   n.reject_unknown_keys();
 }
 
@@ -258,6 +263,16 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(pose.relocalise_keyframes >= 1, file, "pose.relocalise_keyframes", "must be at least 1");
   require(pose.mono_resume_max_s >= 0 && std::isfinite(pose.mono_resume_max_s), file, "pose.mono_resume_max_s",
           "must be >= 0 (0: off)");
+  require(pose.mono_frame_motion_min_inliers == 0 || pose.mono_frame_motion_min_inliers >= 8, file,
+          "pose.mono_frame_motion_min_inliers", "must be 0 (off) or at least 8 (the essential matrix's sample)");
+  require(pose.mono_frame_motion_max_frames >= 1, file, "pose.mono_frame_motion_max_frames", "must be at least 1");
+  require(pose.mono_frame_motion_max_rotation_change_deg > 0 && pose.mono_frame_motion_max_rotation_change_deg <= 180,
+          file, "pose.mono_frame_motion_max_rotation_change_deg", "must be in (0, 180]");
+  require(pose.mono_frame_motion_max_translation_change_deg > 0 &&
+              pose.mono_frame_motion_max_translation_change_deg <= 180,
+          file, "pose.mono_frame_motion_max_translation_change_deg", "must be in (0, 180]");
+  require(pose.mono_frame_motion_translation_sigma_deg >= 0 && pose.mono_frame_motion_translation_sigma_deg <= 180,
+          file, "pose.mono_frame_motion_translation_sigma_deg", "must be in [0, 180] (0: no prior)");
   require(init.min_points >= 8, file, "init.min_points", "must be at least 8");
   require(mapping.matcher == "auto" || mapping.matcher == "lightglue" || mapping.matcher == "mnn", file,
           "mapping.matcher", "must be auto, lightglue or mnn");

@@ -226,6 +226,19 @@ struct PoseConfig {
   /// frame as its next keyframe and keeps its scale, instead of a two-view start at a new,
   /// arbitrary scale. Each try costs one detection and one match (0: off).
   double mono_resume_max_s = 2.0;
+  /// A monocular frame whose pose fails on the map (a fast turn carries the map's points out of
+  /// view before new ones can be triangulated) takes its motion from the previous frame by the
+  /// essential matrix of all its KLT tracks, map points and candidates alike, with at least
+  /// this many inliers; the step keeps the last velocity's length, and rotation and direction
+  /// must stay near it (geometry::RelativeMotionLimits). The keyframes made meanwhile
+  /// triangulate new points from these poses. Counted in stats.json as `frame_motion_poses`
+  /// (0: off).
+  int mono_frame_motion_min_inliers = 20;
+  /// ... for at most this many frames in a row; after them the frame is lost as before.
+  int mono_frame_motion_max_frames = 5;
+  double mono_frame_motion_max_rotation_change_deg = 5.0;
+  double mono_frame_motion_max_translation_change_deg = 45.0;
+  double mono_frame_motion_translation_sigma_deg = 15.0;  ///< prior on the direction (0: none)
 };
 
 /// New keyframes: their features without a point matched with recent keyframes' points by
