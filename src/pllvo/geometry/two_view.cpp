@@ -25,6 +25,7 @@ constexpr double kRadToDeg = 180.0 / M_PI;
 constexpr double kCheiralityMinParallaxDeg = 0.36;
 // Standard deviation that holds a translation direction in place in refine_motion.
 constexpr double kFixedDirectionSigmaDeg = 0.01;
+constexpr const char* kFarDirection = "translation far from the expected direction";
 
 Eigen::Vector3d homogeneous(const Eigen::Vector2d& x) { return {x.x(), x.y(), 1.0}; }
 
@@ -405,11 +406,11 @@ RelativeMotion estimate_relative_motion(std::span<const Eigen::Vector2d> xy0,
     } else if (out.rotation_from_expected_deg > limits.max_rotation_change_deg) {
       out.failure = "rotation far from the expected one";
     } else if (out.translation_from_expected_deg > limits.max_translation_change_deg) {
-      out.failure = "translation far from the expected direction";
+      out.failure = kFarDirection;
     }
   };
   fit(best.t, limits.translation_prior_sigma_deg);
-  if (out.failure == "translation far from the expected direction" && limits.keep_expected_translation) {
+  if (out.failure == kFarDirection && limits.keep_expected_translation) {
     // The matches do not tell the direction (too little parallax, or too few of them): the
     // rotation alone is measured, the translation kept as expected.
     const std::vector<uint8_t> essential_inliers = out.inliers;

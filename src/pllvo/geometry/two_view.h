@@ -80,7 +80,7 @@ struct RelativeMotion {
 };
 
 struct RelativeMotionLimits {
-  int min_inliers = 30;
+  int min_inliers = 20;
   /// The chosen motion may differ from the expected one (constant velocity) by at most this
   /// much: over one frame's baseline a wrong fit is more likely than such a change of motion.
   double max_rotation_change_deg = 5.0;
