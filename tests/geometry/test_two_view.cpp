@@ -210,8 +210,10 @@ TurnStep turn_step(unsigned seed, double turn_deg = 5.0, const Eigen::Vector3d& 
 /// (both about the x axis): what a constant-velocity prediction might expect.
 Pose expected_motion(const TurnStep& s, double rotation_off_deg, double direction_off_deg) {
   const Pose truth = s.T1.inverse() * s.T0;
-  const Eigen::Matrix3d off_r = Eigen::AngleAxisd(rotation_off_deg * M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  const Eigen::Matrix3d off_t = Eigen::AngleAxisd(direction_off_deg * M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Matrix3d off_r =
+      Eigen::AngleAxisd(rotation_off_deg * M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Matrix3d off_t =
+      Eigen::AngleAxisd(direction_off_deg * M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix();
   return make_pose(off_r * truth.linear(), off_t * truth.translation());
 }
 }  // namespace
@@ -266,7 +268,8 @@ TEST(RelativeMotion, RefusesARotationFarFromTheExpectedOneAndTooFewMatches) {
   EXPECT_FALSE(r.ok);
   EXPECT_EQ(r.failure, "rotation far from the expected one");
   EXPECT_GT(r.rotation_from_expected_deg, 9.0);
-  const std::vector<Eigen::Vector2d> few(s.m.xy0.begin(), s.m.xy0.begin() + 15), few1(s.m.xy1.begin(), s.m.xy1.begin() + 15);
+  const std::vector<Eigen::Vector2d> few(s.m.xy0.begin(), s.m.xy0.begin() + 15);
+  const std::vector<Eigen::Vector2d> few1(s.m.xy1.begin(), s.m.xy1.begin() + 15);
   RelativeMotionLimits limits;
   limits.min_inliers = 20;
   const auto r2 = estimate_relative_motion(few, few1, kFocal, expected_motion(s, 0.0, 0.0), limits);

@@ -14,6 +14,16 @@ std::filesystem::path write_yaml(const std::string& name, const std::string& tex
   return path;
 }
 
+/// Loading `text` (written as `name`) must fail with an InputError whose message names `key`.
+void expect_rejected(const std::string& name, const std::string& text, const std::string& key) {
+  try {
+    VoConfig::load(write_yaml(name, text));
+    ADD_FAILURE() << "accepted " << text;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+  }
+}
+
 TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   // config/vo.yaml documents the defaults: it must restate them exactly.
   const VoConfig file = VoConfig::load(std::filesystem::path(PLLVO_SOURCE_DIR) / "config/vo.yaml");
@@ -100,12 +110,7 @@ TEST(VoConfig, PlainSceneKeysAreReadAndChecked) {
   EXPECT_DOUBLE_EQ(c.plain_scene.line_aperture_eigen_ratio, 0.1);
   for (const char* bad : {"max_keyframe_features: -1", "max_tracked_points: -3", "line_aperture_eigen_ratio: 0",
                           "line_aperture_eigen_ratio: 1.5", "max_features: 10"}) {
-    try {
-      VoConfig::load(write_yaml("badplain", std::string("plain_scene:\n  ") + bad + "\n"));
-      FAIL() << "accepted " << bad;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("plain_scene"), std::string::npos) << e.what();
-    }
+    expect_rejected("badplain", std::string("plain_scene:\n  ") + bad + "\n", "plain_scene");
   }
 }
 
@@ -118,12 +123,7 @@ TEST(VoConfig, PipelineSwitchesAreReadAndChecked) {
   EXPECT_FALSE(c.lines.cross_constraint.enabled);
   EXPECT_FALSE(c.keyframes.use_line_trigger);
   EXPECT_EQ(c.mapping.matcher, "mnn");
-  try {
-    VoConfig::load(write_yaml("badtracking", "pipeline:\n  line_tracking: optical\n"));
-    FAIL() << "accepted line_tracking: optical";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("pipeline.line_tracking"), std::string::npos) << e.what();
-  }
+  expect_rejected("badtracking", "pipeline:\n  line_tracking: optical\n", "pipeline.line_tracking");
 }
 
 TEST(VoConfig, ProjectionSearchIsReadAndChecked) {
@@ -133,12 +133,8 @@ TEST(VoConfig, ProjectionSearchIsReadAndChecked) {
   EXPECT_EQ(c.mapping.projection_search.keyframes, 4);
   EXPECT_DOUBLE_EQ(c.mapping.projection_search.radius_px, 3.5);
   for (const char* bad : {"ratio: 1.5", "keyframes: 0", "radius_px: 0", "radious_px: 3"}) {
-    try {
-      VoConfig::load(write_yaml("badprojection", std::string("mapping:\n  projection_search:\n    ") + bad + "\n"));
-      FAIL() << "accepted " << bad;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("projection_search"), std::string::npos) << e.what();
-    }
+    expect_rejected("badprojection", std::string("mapping:\n  projection_search:\n    ") + bad + "\n",
+                    "projection_search");
   }
 }
 
@@ -152,19 +148,15 @@ TEST(VoConfig, MonocularAlignmentKeysAreReadAndChecked) {
   EXPECT_EQ(c.mapping.mono_align_cache_keyframes, 8);
   for (const char* bad : {"mono_align_max_shift_px: 0", "mono_align_levels: -1", "mono_align_min_noise: -1",
                           "mono_align_cache_keyframes: 0"}) {
-    try {
-      VoConfig::load(write_yaml("badalign", std::string("mapping:\n  ") + bad + "\n"));
-      FAIL() << "accepted " << bad;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("mono_align"), std::string::npos) << e.what();
-    }
+    expect_rejected("badalign", std::string("mapping:\n  ") + bad + "\n", "mono_align");
   }
 }
 
 TEST(VoConfig, FrameMotionKeysAreReadAndChecked) {
   const VoConfig c = VoConfig::load(write_yaml(
       "framemotion", "pose:\n  mono_frame_motion_min_inliers: 0\n  mono_frame_motion_max_frames: 3\n"
-                     "  mono_frame_motion_max_rotation_change_deg: 8\n  mono_frame_motion_max_translation_change_deg: 30\n"
+                     "  mono_frame_motion_max_rotation_change_deg: 8\n"
+                     "  mono_frame_motion_max_translation_change_deg: 30\n"
                      "  mono_frame_motion_translation_sigma_deg: 0\n"));
   EXPECT_EQ(c.pose.mono_frame_motion_min_inliers, 0);
   EXPECT_EQ(c.pose.mono_frame_motion_max_frames, 3);
@@ -172,14 +164,10 @@ TEST(VoConfig, FrameMotionKeysAreReadAndChecked) {
   EXPECT_DOUBLE_EQ(c.pose.mono_frame_motion_max_translation_change_deg, 30.0);
   EXPECT_DOUBLE_EQ(c.pose.mono_frame_motion_translation_sigma_deg, 0.0);
   for (const char* bad : {"mono_frame_motion_min_inliers: 5", "mono_frame_motion_max_frames: 0",
-                          "mono_frame_motion_max_rotation_change_deg: 0", "mono_frame_motion_max_translation_change_deg: .nan",
+                          "mono_frame_motion_max_rotation_change_deg: 0",
+                          "mono_frame_motion_max_translation_change_deg: .nan",
                           "mono_frame_motion_translation_sigma_deg: -1"}) {
-    try {
-      VoConfig::load(write_yaml("badframemotion", std::string("pose:\n  ") + bad + "\n"));
-      FAIL() << "accepted " << bad;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("mono_frame_motion"), std::string::npos) << e.what();
-    }
+    expect_rejected("badframemotion", std::string("pose:\n  ") + bad + "\n", "mono_frame_motion");
   }
 }
 
@@ -223,14 +211,7 @@ TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {
       {"run:\n  mono_starving_points: -1\n", "run.mono_starving_points"},
       {"run:\n  noisy_starving_points: -1\n", "run.noisy_starving_points"},
       {"run:\n  noisy_frame_noise: 0\n", "run.noisy_frame_noise"}};
-  for (const auto& [text, key] : bad) {
-    try {
-      VoConfig::load(write_yaml("badspeed", text));
-      FAIL() << "accepted " << text;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
-    }
-  }
+  for (const auto& [text, key] : bad) expect_rejected("badspeed", text, key);
 }
 
 TEST(VoConfig, MonocularRunsUseLinesUnlessTurnedOff) {
@@ -262,12 +243,8 @@ TEST(VoConfig, MonocularLinesNeedAWiderTriangulationAngle) {
   const VoConfig light = VoConfig::load(write_yaml("monoweight", "mapping:\n  mono_ba_line_weight: 0.1\n"));
   EXPECT_DOUBLE_EQ(light.for_mode(false).backend.bundle_adjustment.line_weight, 0.1);
   EXPECT_THROW(VoConfig::load(write_yaml("badmonoweight", "mapping:\n  mono_ba_line_weight: -1\n")), InputError);
-  try {
-    VoConfig::load(write_yaml("badmonoangle", "mapping:\n  mono_line_min_plane_angle_deg: -1\n"));
-    FAIL() << "accepted a negative angle";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("mapping.mono_line_min_plane_angle_deg"), std::string::npos) << e.what();
-  }
+  expect_rejected("badmonoangle", "mapping:\n  mono_line_min_plane_angle_deg: -1\n",
+                  "mapping.mono_line_min_plane_angle_deg");
 }
 
 TEST(VoConfig, FileOverridesOnlyTheKeysItNames) {
