@@ -38,6 +38,7 @@ TEST(BackendConfig, DefaultFileMatchesTheDefaultsInCode) {
   const auto &b = c.bundle_adjustment, &bd = d.bundle_adjustment;
   EXPECT_EQ(b.window_size, bd.window_size);
   EXPECT_EQ(b.num_fixed_oldest, bd.num_fixed_oldest);
+  EXPECT_EQ(b.distance_gauge, bd.distance_gauge);
   EXPECT_EQ(b.min_point_observations, bd.min_point_observations);
   EXPECT_EQ(b.min_line_observations, bd.min_line_observations);
   expect_same_loss(b.point_loss, bd.point_loss);
@@ -57,11 +58,12 @@ TEST(BackendConfig, DefaultFileMatchesTheDefaultsInCode) {
 
 TEST(BackendConfig, OverridesAndErrorsNameTheKey) {
   const auto c = BackendConfig::load_file(write_temp(
-      "ok.yaml", "bundle_adjustment:\n  window_size: 7\n  point_loss: cauchy\n  jacobians: autodiff\n"
+      "ok.yaml", "bundle_adjustment:\n  window_size: 7\n  point_loss: cauchy\n  jacobians: autodiff\n  distance_gauge: true\n"
                  "pose_refiner:\n  use_motion_prior: false\n"));
   EXPECT_EQ(c.bundle_adjustment.window_size, 7);
   EXPECT_EQ(c.bundle_adjustment.point_loss.type, LossType::kCauchy);
   EXPECT_EQ(c.bundle_adjustment.jacobians, BaJacobians::kAutodiff);
+  EXPECT_TRUE(c.bundle_adjustment.distance_gauge);
   EXPECT_FALSE(c.pose_refiner.use_motion_prior);
   EXPECT_EQ(c.bundle_adjustment.line_loss.type, LossType::kHuber);  // default kept
 

@@ -290,6 +290,51 @@ TEST(SlidingWindowBA, StereoObservationsFixTheScaleWithOneFixedKeyframe) {
   EXPECT_LT(after.median_point, 1e-4);
 }
 
+TEST(SlidingWindowBA, DistanceGaugeFreesTheSecondKeyframeButKeepsTheScale) {
+  // A monocular start: keyframe 1 off by 1 deg of rotation and 10 deg of translation
+  // direction, at the right distance from keyframe 0. Fixing it (two fixed keyframes) keeps
+  // those errors; the distance gauge corrects them and keeps the distance, hence the scale.
+  const auto scene = make_scene(6, 150, 0, 104);
+  std::mt19937 rng(105);
+  BaProblem fixed_pose = make_problem(scene, 0.0, false, rng);
+  perturb(fixed_pose, 2, 0.05, 1.0, 0.1, rng);
+  const Eigen::Vector3d c0 = scene.T_world_cam[0].translation();
+  Pose& T1 = fixed_pose.keyframes[1].T_world_cam;
+  const Eigen::Matrix3d turn = pllvo::geometry::so3_exp(Eigen::Vector3d(0, 10 * M_PI / 180, 0));
+  T1 = pllvo::geometry::make_pose(T1.linear() * pllvo::geometry::so3_exp(Eigen::Vector3d(1 * M_PI / 180, 0, 0)),
+                                  c0 + turn * (T1.translation() - c0));
+  BaProblem distance = fixed_pose;
+  const double d0 = (T1.translation() - c0).norm();
+
+  BundleAdjustmentConfig config;
+  config.max_iterations = 50;
+  config.num_fixed_oldest = 2;
+  const auto a = SlidingWindowBA(config).optimize(fixed_pose);
+  config.num_fixed_oldest = 1;
+  config.distance_gauge = true;
+  const SlidingWindowBA gauged(config);
+  EXPECT_EQ(gauged.distance_gauge_pair(distance), std::make_pair(0, 1));
+  const auto b = gauged.optimize(distance);
+  ASSERT_TRUE(a.ok && b.ok);
+  EXPECT_EQ(a.num_free_keyframes, 4);
+  EXPECT_EQ(b.num_free_keyframes, 5);
+  const Errors with_fixed_pose = errors(fixed_pose, scene), with_distance = errors(distance, scene);
+  print("second keyframe fixed", with_fixed_pose, with_distance);
+  EXPECT_GT(with_fixed_pose.max_rotation_deg, 0.5);
+  EXPECT_GT(with_fixed_pose.median_point, 0.05);
+  EXPECT_LT(with_distance.max_translation, 1e-4);
+  EXPECT_LT(with_distance.max_rotation_deg, 1e-3);
+  EXPECT_LT(with_distance.median_point, 1e-3);
+  EXPECT_NEAR((distance.keyframes[1].T_world_cam.translation() - c0).norm(), d0, 1e-6 * d0);
+
+  // Two keyframes already fixed (the caller's anchors): no gauge.
+  distance.keyframes[0].fixed = distance.keyframes[1].fixed = true;
+  EXPECT_EQ(gauged.distance_gauge_pair(distance), std::make_pair(-1, -1));
+  distance.keyframes[1].fixed = false;
+  distance.keyframes[3].fixed = true;
+  EXPECT_EQ(gauged.distance_gauge_pair(distance), std::make_pair(-1, -1));
+}
+
 TEST(SlidingWindowBA, EdgeCases) {
   const auto scene = make_scene(3, 10, 2, 102);
   std::mt19937 rng(103);

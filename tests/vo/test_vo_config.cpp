@@ -57,6 +57,7 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_DOUBLE_EQ(file.mapping.mono_line_min_plane_angle_deg, code.mapping.mono_line_min_plane_angle_deg);
   EXPECT_DOUBLE_EQ(file.mapping.mono_ba_line_weight, code.mapping.mono_ba_line_weight);
   EXPECT_EQ(file.mapping.mono_baseline_parallax_gate, code.mapping.mono_baseline_parallax_gate);
+  EXPECT_EQ(file.mapping.mono_distance_gauge_max_noise, code.mapping.mono_distance_gauge_max_noise);
   EXPECT_DOUBLE_EQ(file.mapping.mono_point_min_parallax_deg, code.mapping.mono_point_min_parallax_deg);
   EXPECT_EQ(file.mapping.mono_align_to_origin, code.mapping.mono_align_to_origin);
   EXPECT_DOUBLE_EQ(file.mapping.mono_align_min_noise, code.mapping.mono_align_min_noise);
@@ -136,6 +137,12 @@ TEST(VoConfig, ProjectionSearchIsReadAndChecked) {
     expect_rejected("badprojection", std::string("mapping:\n  projection_search:\n    ") + bad + "\n",
                     "projection_search");
   }
+}
+
+TEST(VoConfig, MonocularGaugeKeyIsReadAndChecked) {
+  const VoConfig c = VoConfig::load(write_yaml("gauge", "mapping:\n  mono_distance_gauge_max_noise: 0\n"));
+  EXPECT_EQ(c.mapping.mono_distance_gauge_max_noise, 0.0);
+  expect_rejected("badgauge", "mapping:\n  mono_distance_gauge_max_noise: -1\n", "mono_distance_gauge_max_noise");
 }
 
 TEST(VoConfig, MonocularAlignmentKeysAreReadAndChecked) {

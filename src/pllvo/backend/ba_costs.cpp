@@ -139,4 +139,9 @@ ceres::CostFunction* new_line_cost(const Eigen::Vector3d& line, const Pose& T_ca
       new LineReprojectionFunctor{line, T_cam_cam0, scale});
 }
 
+ceres::CostFunction* new_distance_cost(const Eigen::Vector3d& reference, double distance) {
+  return new ceres::AutoDiffCostFunction<DistanceGaugeFunctor, 1, kPoseBlockSize>(
+      new DistanceGaugeFunctor{reference, distance});
+}
+
 }  // namespace pllvo::backend

@@ -123,8 +123,29 @@ struct LineReprojectionFunctor {
   }
 };
 
+/// Keeps a camera's centre at `distance` from a fixed point (a monocular map's scale):
+/// residual kDistanceGaugeWeight * (|c - reference| / distance - 1), c the centre of the
+/// T_cam0_world block.
+struct DistanceGaugeFunctor {
+  Eigen::Vector3d reference;
+  double distance;
+
+  template <typename T>
+  bool operator()(const T* pose, T* residual) const {
+    const Eigen::Quaternion<T> q(pose[3], pose[0], pose[1], pose[2]);
+    const Eigen::Matrix<T, 3, 1> centre = -(q.conjugate() * Eigen::Matrix<T, 3, 1>(pose[4], pose[5], pose[6]));
+    residual[0] = T(kDistanceGaugeWeight) * ((centre - reference.cast<T>()).norm() / T(distance) - T(1));
+    return true;
+  }
+  /// 1 % of the distance weighs as 1 px of reprojection error. No other residual depends on
+  /// the scale, so the minimum keeps the distance whatever the weight; a stiffer one only
+  /// slows the solver along the sphere.
+  static constexpr double kDistanceGaugeWeight = 100;
+};
+
 /// Cost functions, analytic or automatic differentiation (caller owns).
 ceres::CostFunction* new_point_cost(const Eigen::Vector2d& xy, const Pose& T_cam_cam0, double scale, bool autodiff);
 ceres::CostFunction* new_line_cost(const Eigen::Vector3d& line, const Pose& T_cam_cam0, double scale, bool autodiff);
+ceres::CostFunction* new_distance_cost(const Eigen::Vector3d& reference, double distance);
 
 }  // namespace pllvo::backend

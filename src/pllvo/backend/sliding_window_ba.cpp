@@ -118,6 +118,7 @@ double inlier_rms(const std::vector<double>& point_errors, const std::vector<uin
 void BundleAdjustmentConfig::load(const ConfigNode& node) {
   node.get("window_size", window_size);
   node.get("num_fixed_oldest", num_fixed_oldest);
+  node.get("distance_gauge", distance_gauge);
   node.get("min_point_observations", min_point_observations);
   node.get("min_line_observations", min_line_observations);
   point_loss.load(node, "point_");
@@ -140,6 +141,22 @@ void BundleAdjustmentConfig::load(const ConfigNode& node) {
 
 bool SlidingWindowBA::keyframe_fixed(int i, int n, bool fixed) const {
   return fixed || i < config_.num_fixed_oldest || i < n - config_.window_size;
+}
+
+std::pair<int, int> SlidingWindowBA::distance_gauge_pair(const BaProblem& problem) const {
+  if (!config_.distance_gauge) return {-1, -1};
+  const int n = static_cast<int>(problem.keyframes.size());
+  int reference = -1, moving = -1, fixed = 0;
+  for (int i = 0; i < n; ++i) {
+    if (keyframe_fixed(i, n, problem.keyframes[i].fixed)) {
+      ++fixed;
+      if (reference < 0) reference = i;
+    } else if (moving < 0) {
+      moving = i;
+    }
+  }
+  if (fixed >= 2 || reference < 0 || moving < 0) return {-1, -1};
+  return {reference, moving};
 }
 
 BaSummary SlidingWindowBA::optimize(BaProblem& P) const {
@@ -198,6 +215,11 @@ BaSummary SlidingWindowBA::optimize(BaProblem& P) const {
     else ++S.num_free_keyframes;
   }
   if (!pose_manifold_used) delete pose_manifold;
+  if (const auto [reference, moving] = distance_gauge_pair(P); moving >= 0 && problem.HasParameterBlock(state.pose(moving))) {
+    const Eigen::Vector3d c_ref = P.keyframes[reference].T_world_cam.translation();
+    const double distance = (P.keyframes[moving].T_world_cam.translation() - c_ref).norm();
+    if (distance > 0) problem.AddResidualBlock(new_distance_cost(c_ref, distance), nullptr, state.pose(moving));
+  }
   for (size_t i = 0; i < P.points.size(); ++i) {
     double* block = state.point(i);
     if (!problem.HasParameterBlock(block)) continue;

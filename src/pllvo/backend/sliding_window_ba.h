@@ -9,6 +9,7 @@
 // monocular map also has a free scale, which two fixed keyframes pin). Older keyframes passed
 // in (e.g. ones that also see the window's landmarks) constrain the solution but stay put.
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -28,6 +29,12 @@ enum class BaLinearSolver { kDenseSchur, kSparseSchur };
 struct BundleAdjustmentConfig {
   int window_size = 10;      ///< newest keyframes optimised
   int num_fixed_oldest = 1;  ///< oldest keyframes always fixed (gauge); 2 for monocular scale
+  /// Monocular scale held by one distance instead of a second fixed pose: while fewer than two
+  /// keyframes are fixed, the first free one keeps its distance to the first fixed one and is
+  /// otherwise free (a second fixed pose also freezes the rotation and the translation
+  /// direction of a two-view start, errors of a degree and tens of degrees at 1 degree of
+  /// parallax). Use with num_fixed_oldest = 1.
+  bool distance_gauge = false;
   /// Landmarks with fewer observations in the problem are held fixed: one view does not
   /// constrain a point's depth or a line's position.
   int min_point_observations = 2;
@@ -110,6 +117,10 @@ class SlidingWindowBA {
 
   /// Whether keyframe i of n (oldest first, caller's flag `fixed`) is held fixed.
   bool keyframe_fixed(int i, int n, bool fixed) const;
+
+  /// With distance_gauge: the keyframes (reference, moving) whose distance is held, when fewer
+  /// than two of the n keyframes are fixed; {-1, -1} otherwise.
+  std::pair<int, int> distance_gauge_pair(const BaProblem& problem) const;
 
  private:
   BundleAdjustmentConfig config_;

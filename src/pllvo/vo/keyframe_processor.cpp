@@ -57,9 +57,18 @@ KeyframeProcessor::KeyframeProcessor(const VoConfig& config, const Pinhole& came
       klt_(config.klt) {
   if (config_.pipeline.lines)
     line_mapper_ = std::make_unique<LineMapper>(config_.lines, config_.geometry.line_triangulation, camera_);
-  // A monocular map has a free scale as well: two fixed keyframes pin it.
-  if (baseline_ <= 0)
-    config_.backend.bundle_adjustment.num_fixed_oldest = std::max(2, config_.backend.bundle_adjustment.num_fixed_oldest);
+}
+
+backend::BundleAdjustmentConfig KeyframeProcessor::window_ba_config(double image_noise) const {
+  backend::BundleAdjustmentConfig ba = config_.backend.bundle_adjustment;
+  if (baseline_ > 0) return ba;
+  // A monocular map has a free scale as well: the distance of a second keyframe to the first,
+  // or (low light) its whole pose, pins it.
+  if (image_noise < config_.mapping.mono_distance_gauge_max_noise)
+    ba.distance_gauge = true;
+  else
+    ba.num_fixed_oldest = std::max(2, ba.num_fixed_oldest);
+  return ba;
 }
 
 PointFeatures KeyframeProcessor::detect(const cv::Mat& image) {
@@ -546,7 +555,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
     const std::vector<Id> ids_window(segment_keyframes_.end() - std::min(window, segment_keyframes_.size()),
                                      segment_keyframes_.end());
     const auto ba = bundle_adjust_window(map_, camera_, baseline_, ids_window, config_.mapping.max_anchor_keyframes,
-                                         config_.backend.bundle_adjustment);
+                                         window_ba_config(job.image_noise));
     if (ba.ran) {
       stats_.add_sample("ba_rms_px", ba.final_rms_px);
       stats_.add_count("ba_point_outliers", ba.point_outliers);

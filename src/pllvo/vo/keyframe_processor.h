@@ -148,6 +148,8 @@ class KeyframeProcessor {
                         std::vector<Observation>& origins, std::vector<Observation>& previous);
   /// Keeps a monocular keyframe's tracking image for align_to_origins (the newest ones only).
   void remember_image(Id keyframe, const KeyframeJob& job);
+  /// The window BA's settings for a keyframe with this image noise (the monocular gauge).
+  backend::BundleAdjustmentConfig window_ba_config(double image_noise) const;
 
   VoConfig config_;
   Pinhole camera_;

@@ -114,6 +114,7 @@ void read_mapping(const ConfigNode& n, MappingConfig& c) {
   n.get("orb_ratio", c.orb_ratio);
   n.get("orb_max_hamming", c.orb_max_hamming);
   n.get("max_anchor_keyframes", c.max_anchor_keyframes);
+  n.get("mono_distance_gauge_max_noise", c.mono_distance_gauge_max_noise);
   n.get("mono_line_min_plane_angle_deg", c.mono_line_min_plane_angle_deg);
   n.get("mono_ba_line_weight", c.mono_ba_line_weight);
   n.get("mono_baseline_parallax_gate", c.mono_baseline_parallax_gate);
@@ -294,6 +295,8 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(ps.ratio > 0 && ps.ratio <= 1, file, "mapping.projection_search.ratio", "must be in (0, 1]");
   require(mapping.mono_point_min_parallax_deg >= 0, file, "mapping.mono_point_min_parallax_deg", "must not be negative");
   require(mapping.mono_align_min_noise >= 0, file, "mapping.mono_align_min_noise", "must not be negative");
+  require(mapping.mono_distance_gauge_max_noise >= 0, file, "mapping.mono_distance_gauge_max_noise",
+          "must not be negative");
   require(mapping.mono_align_max_shift_px > 0, file, "mapping.mono_align_max_shift_px", "must be positive");
   require(mapping.mono_align_levels >= 0, file, "mapping.mono_align_levels", "must not be negative");
   require(mapping.mono_align_cache_keyframes >= 1, file, "mapping.mono_align_cache_keyframes", "must be at least 1");

@@ -272,6 +272,14 @@ struct MappingConfig {
   /// Older keyframes (outside the window) that see the window's points join the BA, fixed,
   /// to anchor it; at most this many.
   int max_anchor_keyframes = 5;
+  /// Monocular BA on keyframes with less image noise than this (grey levels): the scale is held
+  /// by the distance between the first two keyframes of a start
+  /// (backend.bundle_adjustment.distance_gauge) instead of fixing the second one's pose, so the
+  /// BA may correct a two-view start's rotation and translation direction. 0 (default): never.
+  /// Measured mixed (docs/vo.md, session 27): it removes the ~7 % runs that follow 1-degree
+  /// homography starts in normal light, but worsens the low-light means, the start-direction
+  /// test and medium_lowtexture.
+  double mono_distance_gauge_max_noise = 0;
   /// Monocular runs with lines: smallest angle between the two back-projected planes of a new
   /// 3-D line (raises geometry.line_triangulation.min_plane_angle_deg in mono). Lines
   /// triangulated from monocular keyframes at the stereo default (2 deg) pull the scale harder:
