@@ -333,6 +333,10 @@ TEST(SlidingWindowBA, DistanceGaugeFreesTheSecondKeyframeButKeepsTheScale) {
   distance.keyframes[1].fixed = false;
   distance.keyframes[3].fixed = true;
   EXPECT_EQ(gauged.distance_gauge_pair(distance), std::make_pair(-1, -1));
+  // A free keyframe that sees nothing cannot hold the scale: the next one does.
+  distance.keyframes[3].fixed = false;
+  std::erase_if(distance.point_observations, [](const BaPointObservation& o) { return o.keyframe == 1; });
+  EXPECT_EQ(gauged.distance_gauge_pair(distance), std::make_pair(0, 2));
 }
 
 TEST(SlidingWindowBA, EdgeCases) {

@@ -146,12 +146,16 @@ bool SlidingWindowBA::keyframe_fixed(int i, int n, bool fixed) const {
 std::pair<int, int> SlidingWindowBA::distance_gauge_pair(const BaProblem& problem) const {
   if (!config_.distance_gauge) return {-1, -1};
   const int n = static_cast<int>(problem.keyframes.size());
+  // A keyframe without observations has no block in the problem: the gauge goes to the next.
+  std::vector<char> observed(problem.keyframes.size(), 0);
+  for (const auto& o : problem.point_observations) observed[o.keyframe] = 1;
+  for (const auto& o : problem.line_observations) observed[o.keyframe] = 1;
   int reference = -1, moving = -1, fixed = 0;
   for (int i = 0; i < n; ++i) {
     if (keyframe_fixed(i, n, problem.keyframes[i].fixed)) {
       ++fixed;
       if (reference < 0) reference = i;
-    } else if (moving < 0) {
+    } else if (moving < 0 && observed[i]) {
       moving = i;
     }
   }
@@ -215,7 +219,8 @@ BaSummary SlidingWindowBA::optimize(BaProblem& P) const {
     else ++S.num_free_keyframes;
   }
   if (!pose_manifold_used) delete pose_manifold;
-  if (const auto [reference, moving] = distance_gauge_pair(P); moving >= 0 && problem.HasParameterBlock(state.pose(moving))) {
+  const auto [reference, moving] = distance_gauge_pair(P);
+  if (moving >= 0 && problem.HasParameterBlock(state.pose(moving))) {
     const Eigen::Vector3d c_ref = P.keyframes[reference].T_world_cam.translation();
     const double distance = (P.keyframes[moving].T_world_cam.translation() - c_ref).norm();
     if (distance > 0) problem.AddResidualBlock(new_distance_cost(c_ref, distance), nullptr, state.pose(moving));

@@ -118,8 +118,9 @@ class SlidingWindowBA {
   /// Whether keyframe i of n (oldest first, caller's flag `fixed`) is held fixed.
   bool keyframe_fixed(int i, int n, bool fixed) const;
 
-  /// With distance_gauge: the keyframes (reference, moving) whose distance is held, when fewer
-  /// than two of the n keyframes are fixed; {-1, -1} otherwise.
+  /// With distance_gauge: the keyframes (reference: the first fixed, moving: the first free one
+  /// with observations) whose distance is held, when fewer than two keyframes are fixed;
+  /// {-1, -1} otherwise. Validated observations expected (optimize() checks them first).
   std::pair<int, int> distance_gauge_pair(const BaProblem& problem) const;
 
  private:

@@ -62,8 +62,9 @@ KeyframeProcessor::KeyframeProcessor(const VoConfig& config, const Pinhole& came
 backend::BundleAdjustmentConfig KeyframeProcessor::window_ba_config(double image_noise) const {
   backend::BundleAdjustmentConfig ba = config_.backend.bundle_adjustment;
   if (baseline_ > 0) return ba;
-  // A monocular map has a free scale as well: the distance of a second keyframe to the first,
-  // or (low light) its whole pose, pins it.
+  // A monocular map has a free scale as well: a second fixed keyframe pins it, or, on frames
+  // less noisy than mapping.mono_distance_gauge_max_noise (default: none), its distance to the
+  // first.
   if (image_noise < config_.mapping.mono_distance_gauge_max_noise)
     ba.distance_gauge = true;
   else
