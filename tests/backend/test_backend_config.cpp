@@ -58,7 +58,8 @@ TEST(BackendConfig, DefaultFileMatchesTheDefaultsInCode) {
 
 TEST(BackendConfig, OverridesAndErrorsNameTheKey) {
   const auto c = BackendConfig::load_file(write_temp(
-      "ok.yaml", "bundle_adjustment:\n  window_size: 7\n  point_loss: cauchy\n  jacobians: autodiff\n  distance_gauge: true\n"
+      "ok.yaml", "bundle_adjustment:\n  window_size: 7\n  point_loss: cauchy\n  jacobians: autodiff\n"
+                 "  distance_gauge: true\n"
                  "pose_refiner:\n  use_motion_prior: false\n"));
   EXPECT_EQ(c.bundle_adjustment.window_size, 7);
   EXPECT_EQ(c.bundle_adjustment.point_loss.type, LossType::kCauchy);
