@@ -183,3 +183,32 @@ TEST(PoseRefiner, TooFewInliersIsNotOk) {
   EXPECT_EQ(r.num_point_inliers, 5);
   EXPECT_FALSE(PoseRefiner().refine(PoseRefinementProblem{}).ok);
 }
+
+TEST(PoseRefiner, DownWeightedPointsPullThePoseLess) {
+  // A fifth of the map points sit at 70 % of their depth from the camera (a short-baseline
+  // triangulation), a pull of a few pixels each, below the outlier threshold; weighted at 0.05
+  // they move the pose a small fraction of what they move it at full weight.
+  const auto scene = make_scene(2, 100, 0, 72);
+  std::mt19937 rng(73);
+  auto problem = make_problem(scene, 1, 0.0, 0.0, rng);
+  const Eigen::Vector3d centre = scene.T_world_cam[1].translation();
+  for (size_t i = 0; i < problem.points.size(); i += 5) {
+    const Eigen::Vector3d& p = problem.points[i].p_world;
+    problem.points[i].p_world = scene.T_world_cam[0].translation() + 0.7 * (p - scene.T_world_cam[0].translation());
+  }
+  problem.T_world_cam = scene.T_world_cam[1];
+  PoseRefinerConfig config;
+  config.point_outlier_threshold_px = 1e3;  // keep them all in: the weight alone decides
+  const PoseRefiner refiner(config);
+  const auto full = refiner.refine(problem);
+  for (size_t i = 0; i < problem.points.size(); i += 5) problem.points[i].weight = 0.05;
+  const auto weighted = refiner.refine(problem);
+  ASSERT_TRUE(full.ok);
+  ASSERT_TRUE(weighted.ok);
+  const double e_full = translation_error(full.T_world_cam, scene.T_world_cam[1]);
+  const double e_weighted = translation_error(weighted.T_world_cam, scene.T_world_cam[1]);
+  std::printf("translation error: full weight %.4f, weight 0.05 %.5f (camera at %.2f from the origin)\n", e_full,
+              e_weighted, centre.norm());
+  EXPECT_GT(e_full, 0.01);
+  EXPECT_LT(e_weighted, 0.1 * e_full);
+}

@@ -33,5 +33,25 @@ TEST(TriangulationGate, MedianDepthIsTakenInTheCameraAndSkipsPointsBehindIt) {
   EXPECT_DOUBLE_EQ(median_depth({}, T_world_cam), 0.0);
 }
 
+TEST(DepthUncertainty, ProjectsTheDepthErrorOfTheWidestRayPairIntoTheCamera) {
+  // A point 4 m ahead of the first keyframe; the second keyframe's ray meets it at angle a.
+  Pinhole cam;
+  cam.fx = cam.fy = 500, cam.cx = 320, cam.cy = 240;
+  const Eigen::Vector3d p(0, 0, 4);
+  const std::vector<Eigen::Vector3d> centres = {{0, 0, 0}, {0.2, 0, 0}, {0.1, 0, 0}};
+  const double sin_a = std::sin(std::atan2(0.2, 4.0));
+  const double along = 4.0 / (500.0 * sin_a);  // map units of depth per pixel of ray noise
+  // Seen from the first keyframe the depth error runs along the ray: no image motion.
+  EXPECT_NEAR(depth_uncertainty_px(cam, p, centres, camera_at(0, 0, 0)), 0.0, 1e-12);
+  // From (1, 0, 0) the point is at (-1, 0, 4): moving along z by `along` shifts it by
+  // 500 / 4 * (1 / 4) * along pixels.
+  EXPECT_NEAR(depth_uncertainty_px(cam, p, centres, camera_at(1, 0, 0)), 500.0 / 16.0 * along, 1e-9);
+  // A wider baseline halves it (about); one view or a point behind the camera: unknown (1e9).
+  const double wide = depth_uncertainty_px(cam, p, {{0, 0, 0}, {0.4, 0, 0}}, camera_at(1, 0, 0));
+  EXPECT_NEAR(wide / (500.0 / 16.0 * along), 0.5, 0.01);
+  EXPECT_EQ(depth_uncertainty_px(cam, p, {{0, 0, 0}}, camera_at(1, 0, 0)), 1e9);
+  EXPECT_EQ(depth_uncertainty_px(cam, p, centres, camera_at(0, 0, 5)), 1e9);
+}
+
 }  // namespace
 }  // namespace pllvo::vo

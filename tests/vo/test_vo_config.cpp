@@ -86,6 +86,7 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.pose.relocalise_min_inliers, code.pose.relocalise_min_inliers);
   EXPECT_DOUBLE_EQ(file.pose.mono_resume_max_s, code.pose.mono_resume_max_s);
   EXPECT_EQ(file.pose.mono_frame_motion_min_inliers, code.pose.mono_frame_motion_min_inliers);
+  EXPECT_DOUBLE_EQ(file.pose.mono_point_uncertainty_px, code.pose.mono_point_uncertainty_px);
   EXPECT_EQ(file.pose.mono_frame_motion_max_frames, code.pose.mono_frame_motion_max_frames);
   EXPECT_DOUBLE_EQ(file.pose.mono_frame_motion_max_rotation_change_deg, code.pose.mono_frame_motion_max_rotation_change_deg);
   EXPECT_DOUBLE_EQ(file.pose.mono_frame_motion_max_translation_change_deg,
@@ -176,6 +177,14 @@ TEST(VoConfig, FrameMotionKeysAreReadAndChecked) {
                           "mono_frame_motion_translation_sigma_deg: -1"}) {
     expect_rejected("badframemotion", std::string("pose:\n  ") + bad + "\n", "mono_frame_motion");
   }
+}
+
+TEST(VoConfig, MonocularPointUncertaintyKeyIsReadAndChecked) {
+  EXPECT_DOUBLE_EQ(VoConfig().pose.mono_point_uncertainty_px, 0.0);  // off unless asked for
+  const VoConfig c = VoConfig::load(write_yaml("uncertainty", "pose:\n  mono_point_uncertainty_px: 1.5\n"));
+  EXPECT_DOUBLE_EQ(c.pose.mono_point_uncertainty_px, 1.5);
+  for (const char* bad : {"mono_point_uncertainty_px: -1", "mono_point_uncertainty_px: .inf"})
+    expect_rejected("baduncertainty", std::string("pose:\n  ") + bad + "\n", "pose.mono_point_uncertainty_px");
 }
 
 TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {

@@ -52,8 +52,9 @@ class Linearization {
     Eigen::Vector2d xy;
     geometry::Matrix23d Jp;
     if (!geometry::project_normalised(T_ck_c0 * p0, xy, J ? &Jp : nullptr)) return false;
-    r = problem_.focal_px * (xy - o.xy);
-    if (J) *J = problem_.focal_px * Jp * T_ck_c0.linear() * geometry::point_jacobian_wrt_pose(p0);
+    const double s = problem_.focal_px * o.weight;
+    r = s * (xy - o.xy);
+    if (J) *J = s * Jp * T_ck_c0.linear() * geometry::point_jacobian_wrt_pose(p0);
     return true;
   }
 

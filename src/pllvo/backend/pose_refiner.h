@@ -45,6 +45,9 @@ struct PosePointObservation {
   Eigen::Vector3d p_world;
   Eigen::Vector2d xy;  ///< normalised image coordinates in camera `camera`
   int camera = 0;
+  /// Scales the residual (and so the outlier test): below 1 for a point whose map position
+  /// is uncertain.
+  double weight = 1.0;
 };
 
 struct PoseLineObservation {

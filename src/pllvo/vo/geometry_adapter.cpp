@@ -59,7 +59,8 @@ PoseEstimate estimate_pose_pnp(const Pinhole& cam, const std::vector<Eigen::Vect
 PoseEstimate estimate_pose(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
                            const std::vector<Eigen::Vector2d>& pixels, const std::vector<LineMeasurement>& lines,
                            const std::optional<geometry::Pose>& predicted_T_world_cam,
-                           const geometry::GeometryConfig& geometry, const backend::BackendConfig& backend) {
+                           const geometry::GeometryConfig& geometry, const backend::BackendConfig& backend,
+                           const std::vector<double>& point_weights) {
   PoseEstimate est;
   const auto xy = normalised(cam, pixels);
   geometry::PnpResult pnp;
@@ -76,7 +77,7 @@ PoseEstimate estimate_pose(const Pinhole& cam, const std::vector<Eigen::Vector3d
   std::vector<int> used;
   for (size_t i = 0; i < points_world.size(); ++i) {
     if (pnp.ok && !pnp.inliers[i]) continue;
-    problem.points.push_back({points_world[i], xy[i], 0});
+    problem.points.push_back({points_world[i], xy[i], 0, point_weights.empty() ? 1.0 : point_weights[i]});
     used.push_back(static_cast<int>(i));
   }
   for (const auto& l : lines) problem.lines.push_back({l.start_world, l.end_world, observed_line(cam, l.observed), 0});
@@ -154,6 +155,29 @@ std::optional<geometry::Pose> follow_keyframe_adjustment(const Pinhole& cam,
   const geometry::Pose moved = T_world_adjusted * T_world_added.inverse() * T_world_current;
   if (median_reprojection_px(cam, points_world, pixels, moved) >= now) return std::nullopt;
   return moved;
+}
+
+double depth_uncertainty_px(const Pinhole& cam, const Eigen::Vector3d& p_world,
+                            const std::vector<Eigen::Vector3d>& keyframe_centres, const geometry::Pose& T_world_cam) {
+  constexpr double kUnknown = 1e9;
+  if (keyframe_centres.size() < 2) return kUnknown;
+  const Eigen::Vector3d ray = p_world - keyframe_centres.front();
+  const double distance = ray.norm();
+  double widest = 0;  // sine of the widest angle between the first ray and another
+  for (size_t k = 1; k < keyframe_centres.size(); ++k) {
+    const Eigen::Vector3d other = p_world - keyframe_centres[k];
+    const double n = distance * other.norm();
+    if (n > 0) widest = std::max(widest, ray.cross(other).norm() / n);
+  }
+  if (widest <= 0 || distance <= 0) return kUnknown;
+  const double along = distance / (cam.focal() * widest);  // map units along the first ray
+  const geometry::Pose T_cam_world = T_world_cam.inverse();
+  const Eigen::Vector3d p = T_cam_world * p_world;
+  if (p.z() <= 0) return kUnknown;
+  const Eigen::Vector3d d = T_cam_world.linear() * (ray / distance);
+  // Image motion of a point moving along d: focal / z * (d_xy - (p_xy / z) d_z).
+  const Eigen::Vector2d motion = (d.head<2>() - p.head<2>() / p.z() * d.z()) * (cam.focal() / p.z());
+  return motion.norm() * along;
 }
 
 double median_depth(const std::vector<Eigen::Vector3d>& points_world, const geometry::Pose& T_world_cam) {

@@ -45,10 +45,12 @@ struct PoseEstimate {
 /// Pose of a frame: PnP + RANSAC on the points, then the robust refinement with points,
 /// lines and (when `predicted` is given) the motion prior. Without a PnP solution the
 /// refinement starts at the prediction, so lines can carry a frame with few points.
+/// `point_weights` (empty, or one per point) scale the points' residuals in the refinement.
 PoseEstimate estimate_pose(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
                            const std::vector<Eigen::Vector2d>& pixels, const std::vector<LineMeasurement>& lines,
                            const std::optional<geometry::Pose>& predicted_T_world_cam,
-                           const geometry::GeometryConfig& geometry, const backend::BackendConfig& backend);
+                           const geometry::GeometryConfig& geometry, const backend::BackendConfig& backend,
+                           const std::vector<double>& point_weights = {});
 
 /// PnP + RANSAC alone (frames seen during monocular initialisation).
 PoseEstimate estimate_pose_pnp(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
@@ -102,6 +104,13 @@ std::optional<geometry::Pose> follow_keyframe_adjustment(const Pinhole& cam,
                                                          const geometry::Pose& T_world_current,
                                                          const geometry::Pose& T_world_added,
                                                          const geometry::Pose& T_world_adjusted, double gate_px);
+
+/// How far (pixels) a map point's depth uncertainty moves its projection in the camera at
+/// `T_world_cam`. Its depth along the ray from the first of `keyframe_centres` is uncertain by
+/// (one pixel of ray noise) / sin(widest angle between that ray and the others' rays), to first
+/// order; that displacement is projected into the camera. Without a second view: 1e9.
+double depth_uncertainty_px(const Pinhole& cam, const Eigen::Vector3d& p_world,
+                            const std::vector<Eigen::Vector3d>& keyframe_centres, const geometry::Pose& T_world_cam);
 
 /// Median of the depths of `points_world` in the camera at `T_world_cam`; 0 when there are none.
 double median_depth(const std::vector<Eigen::Vector3d>& points_world, const geometry::Pose& T_world_cam);

@@ -76,6 +76,18 @@ std::vector<int> associate_by_position(const std::vector<lines::LineSegment>& ex
   return out;
 }
 
+/// Weight of a map point's residual in a monocular pose (pose.mono_point_uncertainty_px):
+/// 1 / sqrt(1 + (s / scale_px)^2), s the pixels its depth uncertainty moves it in the camera.
+double uncertainty_weight(const MapData& m, const MapPoint& point, const Pinhole& camera,
+                          const geometry::Pose& T_world_cam, double scale_px) {
+  std::vector<Eigen::Vector3d> centres;
+  for (const auto& o : point.observations)
+    if (auto kf = m.keyframes.find(o.keyframe); kf != m.keyframes.end())
+      centres.push_back(kf->second.T_world_cam.translation());
+  const double s = depth_uncertainty_px(camera, point.position, centres, T_world_cam) / scale_px;
+  return 1.0 / std::sqrt(1.0 + s * s);
+}
+
 }  // namespace
 
 Odometry::Odometry(const VoConfig& config, const io::Calibration& calibration, bool use_stereo, RunStats& stats)
@@ -471,10 +483,15 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
 
   std::vector<Eigen::Vector3d> positions(tracks_.size());
   std::vector<unsigned char> known(tracks_.size(), 0);
+  // Monocular: a map point's depth uncertainty in this image, from its keyframes' rays.
+  const double uncertainty_px = rectifier_.stereo() ? 0.0 : config_.pose.mono_point_uncertainty_px;
+  std::vector<double> weights(uncertainty_px > 0 ? tracks_.size() : 0, 1.0);
   map_.read([&](const MapData& m) {
     for (size_t i = 0; i < tracks_.size(); ++i) {
       auto it = m.points.find(tracks_[i].point);
-      if (it != m.points.end()) positions[i] = it->second.position, known[i] = 1;
+      if (it == m.points.end()) continue;
+      positions[i] = it->second.position, known[i] = 1;
+      if (!weights.empty()) weights[i] = uncertainty_weight(m, it->second, camera_, T_world_pred, uncertainty_px);
     }
   });
   std::vector<cv::Point2f> from, predicted;
@@ -543,11 +560,13 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   std::vector<size_t> which;
   std::vector<Eigen::Vector3d> pts;
   std::vector<Eigen::Vector2d> px;
+  std::vector<double> pt_weights;
   for (size_t i = 0; i < tracks_.size(); ++i) {
     if (!tr.ok[i] || !known[i]) continue;
     which.push_back(i);
     pts.push_back(positions[i]);
     px.push_back(to_eigen(tr.points[i]));
+    if (!weights.empty()) pt_weights.push_back(weights[i]);
   }
 
   PoseEstimate estimate;
@@ -555,14 +574,15 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     ScopedTimer t(stats_, "pose");
     std::optional<geometry::Pose> predicted;
     if (config_.pose.use_motion_prior && has_velocity_) predicted = T_world_pred;
-    estimate = estimate_pose(camera_, pts, px, line_measurements, predicted, config_.geometry, config_.backend);
+    estimate = estimate_pose(camera_, pts, px, line_measurements, predicted, config_.geometry, config_.backend,
+                             pt_weights);
     if (!estimate.ok && config_.pose.use_motion_prior && config_.pose.min_inliers_with_prior > 0) {
       // Too few points for PnP (a textureless stretch): the constant-velocity prediction
       // carries the pose while a few observations (points and lines) still agree with it.
       // Right after a start there is no velocity yet: T_world_pred is the last pose (no motion).
       backend::BackendConfig weak = config_.backend;
       weak.pose_refiner.min_inliers = config_.pose.min_inliers_with_prior;
-      estimate = estimate_pose(camera_, pts, px, line_measurements, T_world_pred, config_.geometry, weak);
+      estimate = estimate_pose(camera_, pts, px, line_measurements, T_world_pred, config_.geometry, weak, pt_weights);
       if (estimate.ok) stats_.add_count("prior_supported_poses");
     }
     const bool by_frame_motion = !estimate.ok;

@@ -239,6 +239,14 @@ struct PoseConfig {
   double mono_frame_motion_max_rotation_change_deg = 5.0;
   double mono_frame_motion_max_translation_change_deg = 45.0;
   double mono_frame_motion_translation_sigma_deg = 15.0;  ///< prior on the direction (0: none)
+  /// Monocular pose: each map point's residual is divided by sqrt(1 + (s / this)^2), where s
+  /// (pixels) is how far its depth uncertainty moves it in the predicted image. The depth
+  /// uncertainty comes from the widest angle between its keyframes' rays (one pixel of ray
+  /// noise). A point triangulated from a short baseline then constrains the rotation but
+  /// hardly the translation, which otherwise follows its depth error: near-biased depths
+  /// shorten the step, the next points are triangulated from the shortened step, and the
+  /// scale shrinks (docs/vo.md session 28). Pixels; 0: off.
+  double mono_point_uncertainty_px = 0.0;
 };
 
 /// New keyframes: their features without a point matched with recent keyframes' points by

@@ -1,0 +1,141 @@
+#!/usr/bin/python3
+"""How far a run's motion strays from the truth, measured from one frame: the monocular start's quality.
+
+  /usr/bin/python3 scripts/relative_motion.py RUN SEQ [--from F] [--to F] [--every N]
+
+RUN is a `pllvo run --out` folder (trajectory.tum, keyframes.tum), SEQ the EuRoC-layout sequence it
+ran on (mav0/cam0/data.csv gives the frame numbers, mav0/state_groundtruth_estimate0/data.csv the
+truth; cam0 is the body frame, as in `pllvo synth` sequences). The first line judges the start:
+the first two keyframes (a monocular start's reference and second view), the error of the second's
+translation direction and rotation relative to the first. Then, every N frames from --from
+(default: the first keyframe), the motion since --from: the error of its direction and rotation,
+and the estimated over the true distance (a monocular run's scale is arbitrary: read the column
+against itself; a falling column is the scale shrinking). Standard library only.
+"""
+import argparse
+import math
+import os
+import sys
+
+
+def quat_matrix(w, x, y, z):
+    n = math.sqrt(w * w + x * x + y * y + z * z)
+    w, x, y, z = w / n, x / n, y / n, z / n
+    return [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
+
+
+def transpose(m):
+    return [list(r) for r in zip(*m)]
+
+
+def mul(a, b):
+    return [[sum(a[i][k] * b[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
+
+
+def apply(m, v):
+    return [sum(m[i][k] * v[k] for k in range(3)) for i in range(3)]
+
+
+def angle_of(m):
+    """Rotation angle (deg) of a rotation matrix."""
+    return math.degrees(math.acos(max(-1.0, min(1.0, (m[0][0] + m[1][1] + m[2][2] - 1) / 2))))
+
+
+def angle_between(a, b):
+    na, nb = math.hypot(*a), math.hypot(*b)
+    if na < 1e-12 or nb < 1e-12:
+        return float("nan")
+    return math.degrees(math.acos(max(-1.0, min(1.0, sum(x * y for x, y in zip(a, b)) / (na * nb)))))
+
+
+def read_tum(path):
+    """{time in s (to the ms): (R, t)} of a TUM file (t x y z qx qy qz qw)."""
+    poses = {}
+    with open(path) as f:
+        for n, line in enumerate(f, 1):
+            if line.startswith("#") or not line.strip():
+                continue
+            v = line.split()
+            if len(v) != 8:
+                sys.exit(f"relative_motion: error: {path}:{n}: expected 't x y z qx qy qz qw'")
+            v = [float(x) for x in v]
+            poses[round(v[0], 3)] = (quat_matrix(v[7], v[4], v[5], v[6]), v[1:4])
+    return poses
+
+
+def read_truth(path):
+    """{time in s (to the ms): (R, t)} of a EuRoC ground-truth csv (ns, p xyz, q wxyz, ...)."""
+    poses = {}
+    with open(path) as f:
+        for n, line in enumerate(f, 1):
+            if line.startswith("#") or not line.strip():
+                continue
+            v = line.strip().split(",")
+            if len(v) < 8:
+                sys.exit(f"relative_motion: error: {path}:{n}: expected 'ns,px,py,pz,qw,qx,qy,qz,...'")
+            v = [float(x) for x in v[:8]]
+            poses[round(v[0] * 1e-9, 3)] = (quat_matrix(*v[4:8]), v[1:4])
+    return poses
+
+
+def relative(a, b):
+    """Motion from pose a to pose b in a's frame: (rotation, translation)."""
+    Ra_t = transpose(a[0])
+    return mul(Ra_t, b[0]), apply(Ra_t, [y - x for x, y in zip(a[1], b[1])])
+
+
+def compare(est, gt, t0, t1):
+    """Direction error (deg), rotation error (deg), estimated / true distance, true rotation (deg)."""
+    Re, te = relative(est[t0], est[t1])
+    Rg, tg = relative(gt[t0], gt[t1])
+    true_distance = math.hypot(*tg)
+    ratio = math.hypot(*te) / true_distance if true_distance > 1e-9 else float("nan")
+    return angle_between(te, tg), angle_of(mul(transpose(Re), Rg)), ratio, angle_of(Rg)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("run")
+    p.add_argument("sequence")
+    p.add_argument("--from", dest="first", type=int, help="frame to measure from (default: the first keyframe)")
+    p.add_argument("--to", dest="last", type=int, help="last frame (default: the last estimated)")
+    p.add_argument("--every", type=int, default=10, help="frames between printed lines")
+    args = p.parse_args()
+    mav = args.sequence.rstrip("/") + "/mav0"
+    run = args.run.rstrip("/")
+    for path in (mav + "/cam0/data.csv", mav + "/state_groundtruth_estimate0/data.csv", run + "/trajectory.tum",
+                 run + "/keyframes.tum"):
+        if not os.path.isfile(path):
+            sys.exit(f"relative_motion: error: {path}: no such file")
+    with open(mav + "/cam0/data.csv") as f:
+        frame_times = [round(int(l.split(",")[0]) * 1e-9, 3) for l in f if l.strip() and not l.startswith("#")]
+    frame_of = {t: i for i, t in enumerate(frame_times)}
+    est = read_tum(run + "/trajectory.tum")
+    gt = read_truth(mav + "/state_groundtruth_estimate0/data.csv")
+    keyframes = sorted(read_tum(run + "/keyframes.tum"))
+    if len(keyframes) < 2:
+        sys.exit("relative_motion: error: fewer than two keyframes")
+    k0, k1 = keyframes[0], keyframes[1]
+    if all(t in est and t in gt for t in (k0, k1)):
+        d, r, _, rot = compare(est, gt, k0, k1)
+        print(f"start: frames {frame_of.get(k0, '?')} -> {frame_of.get(k1, '?')}: direction {d:.1f} deg off, "
+              f"rotation {r:.2f} deg off (true rotation {rot:.1f} deg)")
+    first = args.first if args.first is not None else frame_of.get(k0, 0)
+    if not 0 <= first < len(frame_times) or frame_times[first] not in est:
+        sys.exit(f"relative_motion: error: frame {first} has no estimated pose")
+    last = args.last if args.last is not None else len(frame_times) - 1
+    t0 = frame_times[first]
+    print("frame  direction_err_deg  rotation_err_deg  distance_ratio  true_rotation_deg")
+    for f in range(first + args.every, min(last, len(frame_times) - 1) + 1, args.every):
+        t = frame_times[f]
+        if t not in est or t not in gt:
+            print(f"{f:5d}  (not tracked)")
+            continue
+        d, r, ratio, rot = compare(est, gt, t0, t)
+        print(f"{f:5d}  {d:17.1f}  {r:16.2f}  {ratio:14.3f}  {rot:17.1f}")
+
+
+if __name__ == "__main__":
+    main()
