@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """How far a run's motion strays from the truth, measured from one frame: the monocular start's quality.
 
-  /usr/bin/python3 scripts/relative_motion.py RUN SEQ [--from F] [--to F] [--every N]
+  /usr/bin/python3 scripts/relative_motion.py RUN SEQ [--from F] [--to F] [--every N] [--start]
 
 RUN is a `pllvo run --out` folder (trajectory.tum, keyframes.tum), SEQ the EuRoC-layout sequence it
 ran on (mav0/cam0/data.csv gives the frame numbers, mav0/state_groundtruth_estimate0/data.csv the
@@ -102,6 +102,7 @@ def main():
     p.add_argument("--from", dest="first", type=int, help="frame to measure from (default: the first keyframe)")
     p.add_argument("--to", dest="last", type=int, help="last frame (default: the last estimated)")
     p.add_argument("--every", type=int, default=10, help="frames between printed lines")
+    p.add_argument("--start", action="store_true", help="print the start's line only")
     args = p.parse_args()
     mav = args.sequence.rstrip("/") + "/mav0"
     run = args.run.rstrip("/")
@@ -122,6 +123,8 @@ def main():
         d, r, _, rot = compare(est, gt, k0, k1)
         print(f"start: frames {frame_of.get(k0, '?')} -> {frame_of.get(k1, '?')}: direction {d:.1f} deg off, "
               f"rotation {r:.2f} deg off (true rotation {rot:.1f} deg)")
+    if args.start:
+        return
     first = args.first if args.first is not None else frame_of.get(k0, 0)
     if not 0 <= first < len(frame_times) or frame_times[first] not in est:
         sys.exit(f"relative_motion: error: frame {first} has no estimated pose")

@@ -56,6 +56,14 @@ struct PoseLineObservation {
   int camera = 0;
 };
 
+/// A track without a map point: seen at `xy_first` by a camera at `T_world_first` and at `xy`
+/// now (normalised coordinates). Its epipolar (Sampson) error constrains the rotation and the
+/// direction of the motion since that view, not its length.
+struct PoseEpipolarObservation {
+  geometry::Pose T_world_first;
+  Eigen::Vector2d xy_first, xy;
+};
+
 struct PoseRefinementProblem {
   Pose T_world_cam = Pose::Identity();  ///< initial guess (camera 0)
   std::vector<PosePointObservation> points;
@@ -63,6 +71,8 @@ struct PoseRefinementProblem {
   double focal_px = 1.0;  ///< pixels per normalised unit (geometry::pixel_scale)
   std::optional<Pose> predicted_T_world_cam;  ///< motion-model prediction for the prior
   std::vector<Pose> T_cam_cam0;                ///< rig extrinsics by camera index; empty: mono
+  std::vector<PoseEpipolarObservation> epipolar;  ///< mono: tracks without a map point
+  double epipolar_weight = 0;                     ///< multiplies their residuals (pixels); 0: unused
 };
 
 struct PoseRefinementResult {

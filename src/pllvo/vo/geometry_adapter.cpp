@@ -60,7 +60,7 @@ PoseEstimate estimate_pose(const Pinhole& cam, const std::vector<Eigen::Vector3d
                            const std::vector<Eigen::Vector2d>& pixels, const std::vector<LineMeasurement>& lines,
                            const std::optional<geometry::Pose>& predicted_T_world_cam,
                            const geometry::GeometryConfig& geometry, const backend::BackendConfig& backend,
-                           const std::vector<double>& point_weights) {
+                           const PoseExtras& extras) {
   PoseEstimate est;
   const auto xy = normalised(cam, pixels);
   geometry::PnpResult pnp;
@@ -77,10 +77,11 @@ PoseEstimate estimate_pose(const Pinhole& cam, const std::vector<Eigen::Vector3d
   std::vector<int> used;
   for (size_t i = 0; i < points_world.size(); ++i) {
     if (pnp.ok && !pnp.inliers[i]) continue;
-    problem.points.push_back({points_world[i], xy[i], 0, point_weights.empty() ? 1.0 : point_weights[i]});
+    problem.points.push_back({points_world[i], xy[i], 0, extras.point_weights.empty() ? 1.0 : extras.point_weights[i]});
     used.push_back(static_cast<int>(i));
   }
   for (const auto& l : lines) problem.lines.push_back({l.start_world, l.end_world, observed_line(cam, l.observed), 0});
+  if (extras.epipolar_weight > 0) problem.epipolar = extras.epipolar, problem.epipolar_weight = extras.epipolar_weight;
   const auto refined = backend::PoseRefiner(backend.pose_refiner).refine(problem);
   if (!refined.ok) return est;
   est.ok = true;

@@ -42,15 +42,23 @@ struct PoseEstimate {
   bool from_pnp = false;  ///< false: refined from the prediction alone (PnP failed)
 };
 
+/// Monocular terms of a frame's pose refinement (pose.mono_point_uncertainty_px,
+/// pose.mono_epipolar_weight).
+struct PoseExtras {
+  std::vector<double> point_weights;  ///< empty, or one per point: scale its residual
+  std::vector<backend::PoseEpipolarObservation> epipolar;  ///< tracks without a map point
+  double epipolar_weight = 0;                              ///< 0: the tracks are not used
+};
+
 /// Pose of a frame: PnP + RANSAC on the points, then the robust refinement with points,
 /// lines and (when `predicted` is given) the motion prior. Without a PnP solution the
 /// refinement starts at the prediction, so lines can carry a frame with few points.
-/// `point_weights` (empty, or one per point) scale the points' residuals in the refinement.
+/// `extras` add monocular terms to the refinement.
 PoseEstimate estimate_pose(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
                            const std::vector<Eigen::Vector2d>& pixels, const std::vector<LineMeasurement>& lines,
                            const std::optional<geometry::Pose>& predicted_T_world_cam,
                            const geometry::GeometryConfig& geometry, const backend::BackendConfig& backend,
-                           const std::vector<double>& point_weights = {});
+                           const PoseExtras& extras = {});
 
 /// PnP + RANSAC alone (frames seen during monocular initialisation).
 PoseEstimate estimate_pose_pnp(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,

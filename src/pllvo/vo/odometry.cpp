@@ -88,6 +88,14 @@ double uncertainty_weight(const MapData& m, const MapPoint& point, const Pinhole
   return 1.0 / std::sqrt(1.0 + s * s);
 }
 
+/// Pose and pixel of a feature's keyframe observation, if the keyframe is still in the map.
+std::optional<std::pair<geometry::Pose, Eigen::Vector2d>> keyframe_view(const MapData& m, const Observation& o) {
+  auto kf = m.keyframes.find(o.keyframe);
+  if (kf == m.keyframes.end() || o.index < 0 || o.index >= static_cast<int>(kf->second.features.size()))
+    return std::nullopt;
+  return std::make_pair(kf->second.T_world_cam, to_eigen(kf->second.features.points[o.index]));
+}
+
 }  // namespace
 
 Odometry::Odometry(const VoConfig& config, const io::Calibration& calibration, bool use_stereo, RunStats& stats)
@@ -486,10 +494,18 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   // Monocular: a map point's depth uncertainty in this image, from its keyframes' rays.
   const double uncertainty_px = rectifier_.stereo() ? 0.0 : config_.pose.mono_point_uncertainty_px;
   std::vector<double> weights(uncertainty_px > 0 ? tracks_.size() : 0, 1.0);
+  // Monocular: tracks without a map point constrain the rotation and the direction of motion
+  // since their first keyframe (pose.mono_epipolar_weight).
+  PoseExtras extras;
+  extras.epipolar_weight = rectifier_.stereo() ? 0.0 : config_.pose.mono_epipolar_weight;
+  std::vector<std::optional<std::pair<geometry::Pose, Eigen::Vector2d>>> first_view(tracks_.size());
   map_.read([&](const MapData& m) {
     for (size_t i = 0; i < tracks_.size(); ++i) {
       auto it = m.points.find(tracks_[i].point);
-      if (it == m.points.end()) continue;
+      if (it == m.points.end()) {
+        if (extras.epipolar_weight > 0) first_view[i] = keyframe_view(m, tracks_[i].origin);
+        continue;
+      }
       positions[i] = it->second.position, known[i] = 1;
       if (!weights.empty()) weights[i] = uncertainty_weight(m, it->second, camera_, T_world_pred, uncertainty_px);
     }
@@ -560,29 +576,31 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   std::vector<size_t> which;
   std::vector<Eigen::Vector3d> pts;
   std::vector<Eigen::Vector2d> px;
-  std::vector<double> pt_weights;
   for (size_t i = 0; i < tracks_.size(); ++i) {
     if (!tr.ok[i] || !known[i]) continue;
     which.push_back(i);
     pts.push_back(positions[i]);
     px.push_back(to_eigen(tr.points[i]));
-    if (!weights.empty()) pt_weights.push_back(weights[i]);
+    if (!weights.empty()) extras.point_weights.push_back(weights[i]);
   }
+  for (size_t i = 0; i < tracks_.size(); ++i)
+    if (first_view[i] && tr.ok[i])
+      extras.epipolar.push_back({first_view[i]->first, camera_.normalised(first_view[i]->second),
+                                 camera_.normalised(to_eigen(tr.points[i]))});
 
   PoseEstimate estimate;
   {
     ScopedTimer t(stats_, "pose");
     std::optional<geometry::Pose> predicted;
     if (config_.pose.use_motion_prior && has_velocity_) predicted = T_world_pred;
-    estimate = estimate_pose(camera_, pts, px, line_measurements, predicted, config_.geometry, config_.backend,
-                             pt_weights);
+    estimate = estimate_pose(camera_, pts, px, line_measurements, predicted, config_.geometry, config_.backend, extras);
     if (!estimate.ok && config_.pose.use_motion_prior && config_.pose.min_inliers_with_prior > 0) {
       // Too few points for PnP (a textureless stretch): the constant-velocity prediction
       // carries the pose while a few observations (points and lines) still agree with it.
       // Right after a start there is no velocity yet: T_world_pred is the last pose (no motion).
       backend::BackendConfig weak = config_.backend;
       weak.pose_refiner.min_inliers = config_.pose.min_inliers_with_prior;
-      estimate = estimate_pose(camera_, pts, px, line_measurements, T_world_pred, config_.geometry, weak, pt_weights);
+      estimate = estimate_pose(camera_, pts, px, line_measurements, T_world_pred, config_.geometry, weak, extras);
       if (estimate.ok) stats_.add_count("prior_supported_poses");
     }
     const bool by_frame_motion = !estimate.ok;

@@ -102,6 +102,7 @@ void read_pose(const ConfigNode& n, PoseConfig& c) {
   n.get("mono_frame_motion_max_translation_change_deg", c.mono_frame_motion_max_translation_change_deg);
   n.get("mono_frame_motion_translation_sigma_deg", c.mono_frame_motion_translation_sigma_deg);
   n.get("mono_point_uncertainty_px", c.mono_point_uncertainty_px);
+  n.get("mono_epipolar_weight", c.mono_epipolar_weight);
   n.reject_unknown_keys();
 }
 
@@ -269,6 +270,8 @@ void VoConfig::validate(const std::filesystem::path& file) const {
           "pose.mono_frame_motion_min_inliers", "must be 0 (off) or at least 8 (the essential matrix's sample)");
   require(pose.mono_point_uncertainty_px >= 0 && std::isfinite(pose.mono_point_uncertainty_px), file,
           "pose.mono_point_uncertainty_px", "must be >= 0 (0: off)");
+  require(pose.mono_epipolar_weight >= 0 && std::isfinite(pose.mono_epipolar_weight), file, "pose.mono_epipolar_weight",
+          "must be >= 0 (0: off)");
   require(pose.mono_frame_motion_max_frames >= 1, file, "pose.mono_frame_motion_max_frames", "must be at least 1");
   require(pose.mono_frame_motion_max_rotation_change_deg > 0 && pose.mono_frame_motion_max_rotation_change_deg <= 180,
           file, "pose.mono_frame_motion_max_rotation_change_deg", "must be in (0, 180]");

@@ -247,6 +247,12 @@ struct PoseConfig {
   /// shorten the step, the next points are triangulated from the shortened step, and the
   /// scale shrinks (docs/vo.md session 28). Pixels; 0: off.
   double mono_point_uncertainty_px = 0.0;
+  /// Monocular pose: every KLT track without a map point adds its epipolar (Sampson) error
+  /// against its first keyframe, times this weight, to the refinement (robust, as the points).
+  /// It constrains the rotation and the direction of motion, not the step's length, so a
+  /// thin map (a fast turn, a start from a low-parallax pair) holds its orientation
+  /// (docs/vo.md session 28; 0: off).
+  double mono_epipolar_weight = 0.0;
 };
 
 /// New keyframes: their features without a point matched with recent keyframes' points by
