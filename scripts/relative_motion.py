@@ -50,34 +50,39 @@ def angle_between(a, b):
     return math.degrees(math.acos(max(-1.0, min(1.0, sum(x * y for x, y in zip(a, b)) / (na * nb)))))
 
 
-def read_tum(path):
-    """{time in s (to the ms): (R, t)} of a TUM file (t x y z qx qy qz qw)."""
+def read_poses(path, parse, layout):
+    """{time in s (to the ms): (R, t)} from the lines of a file, each parsed by `parse` (None: malformed)."""
     poses = {}
     with open(path) as f:
         for n, line in enumerate(f, 1):
             if line.startswith("#") or not line.strip():
                 continue
-            v = line.split()
-            if len(v) != 8:
-                sys.exit(f"relative_motion: error: {path}:{n}: expected 't x y z qx qy qz qw'")
-            v = [float(x) for x in v]
-            poses[round(v[0], 3)] = (quat_matrix(v[7], v[4], v[5], v[6]), v[1:4])
+            try:
+                pose = parse(line)
+            except ValueError:
+                pose = None
+            if pose is None:
+                sys.exit(f"relative_motion: error: {path}:{n}: expected '{layout}'")
+            poses[pose[0]] = pose[1:]
     return poses
 
 
-def read_truth(path):
-    """{time in s (to the ms): (R, t)} of a EuRoC ground-truth csv (ns, p xyz, q wxyz, ...)."""
-    poses = {}
-    with open(path) as f:
-        for n, line in enumerate(f, 1):
-            if line.startswith("#") or not line.strip():
-                continue
-            v = line.strip().split(",")
-            if len(v) < 8:
-                sys.exit(f"relative_motion: error: {path}:{n}: expected 'ns,px,py,pz,qw,qx,qy,qz,...'")
-            v = [float(x) for x in v[:8]]
-            poses[round(v[0] * 1e-9, 3)] = (quat_matrix(*v[4:8]), v[1:4])
-    return poses
+def parse_tum(line):
+    """t x y z qx qy qz qw (seconds)."""
+    v = line.split()
+    if len(v) != 8:
+        return None
+    v = [float(x) for x in v]
+    return round(v[0], 3), quat_matrix(v[7], v[4], v[5], v[6]), v[1:4]
+
+
+def parse_euroc(line):
+    """ns,px,py,pz,qw,qx,qy,qz,... (EuRoC ground truth)."""
+    v = line.strip().split(",")
+    if len(v) < 8:
+        return None
+    v = [float(x) for x in v[:8]]
+    return round(v[0] * 1e-9, 3), quat_matrix(*v[4:8]), v[1:4]
 
 
 def relative(a, b):
@@ -113,9 +118,9 @@ def main():
     with open(mav + "/cam0/data.csv") as f:
         frame_times = [round(int(l.split(",")[0]) * 1e-9, 3) for l in f if l.strip() and not l.startswith("#")]
     frame_of = {t: i for i, t in enumerate(frame_times)}
-    est = read_tum(run + "/trajectory.tum")
-    gt = read_truth(mav + "/state_groundtruth_estimate0/data.csv")
-    keyframes = sorted(read_tum(run + "/keyframes.tum"))
+    est = read_poses(run + "/trajectory.tum", parse_tum, "t x y z qx qy qz qw")
+    gt = read_poses(mav + "/state_groundtruth_estimate0/data.csv", parse_euroc, "ns,px,py,pz,qw,qx,qy,qz,...")
+    keyframes = sorted(read_poses(run + "/keyframes.tum", parse_tum, "t x y z qx qy qz qw"))
     if len(keyframes) < 2:
         sys.exit("relative_motion: error: fewer than two keyframes")
     k0, k1 = keyframes[0], keyframes[1]
