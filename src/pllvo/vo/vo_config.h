@@ -243,15 +243,15 @@ struct PoseConfig {
   /// (pixels) is how far its depth uncertainty moves it in the predicted image. The depth
   /// uncertainty comes from the widest angle between its keyframes' rays (one pixel of ray
   /// noise). A point triangulated from a short baseline then constrains the rotation but
-  /// hardly the translation, which otherwise follows its depth error: near-biased depths
-  /// shorten the step, the next points are triangulated from the shortened step, and the
-  /// scale shrinks (docs/vo.md session 28). Pixels; 0: off.
+  /// hardly the translation, which would otherwise follow its depth error. Measured mixed:
+  /// medium_lowlight within its spread, difficult_lowlight worse (docs/vo.md session 28).
+  /// Pixels; 0: off.
   double mono_point_uncertainty_px = 0.0;
   /// Monocular pose: every KLT track without a map point adds its epipolar (Sampson) error
   /// against its first keyframe, times this weight, to the refinement (robust, as the points).
   /// It constrains the rotation and the direction of motion, not the step's length, so a
-  /// thin map (a fast turn, a start from a low-parallax pair) holds its orientation
-  /// (docs/vo.md session 28; 0: off).
+  /// thin map (a fast turn, a start from a low-parallax pair) holds its orientation. At 1:
+  /// neutral in low light, worse in normal light (docs/vo.md session 28; 0: off).
   double mono_epipolar_weight = 0.0;
 };
 
