@@ -410,10 +410,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
   std::vector<Views> views(n);
   map_.read([&](const MapData& m) {
     auto add_view = [&](Views& v, const Observation& o) {
-      auto kf = m.keyframes.find(o.keyframe);
-      if (kf == m.keyframes.end() || o.index < 0 || o.index >= static_cast<int>(kf->second.features.size())) return;
-      v.T_world_cam.push_back(kf->second.T_world_cam);
-      v.px.push_back(to_eigen(kf->second.features.points[o.index]));
+      if (const auto view = m.feature_view(o)) v.T_world_cam.push_back(view->T_world_cam), v.px.push_back(view->px);
     };
     for (size_t i = 0; i < n; ++i) {
       if (ids[i] != kNoId) {

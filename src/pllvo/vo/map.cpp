@@ -6,6 +6,14 @@
 
 namespace pllvo::vo {
 
+std::optional<FeatureView> MapData::feature_view(const Observation& o) const {
+  auto kf = keyframes.find(o.keyframe);
+  if (kf == keyframes.end() || o.index < 0 || o.index >= static_cast<int>(kf->second.features.size()))
+    return std::nullopt;
+  const cv::Point2f& p = kf->second.features.points[o.index];
+  return FeatureView{kf->second.T_world_cam, Eigen::Vector2d(p.x, p.y)};
+}
+
 Id MapData::add_keyframe(Keyframe kf) {
   kf.id = next_id++;
   kf.point_ids.resize(kf.features.size(), kNoId);

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -49,6 +50,12 @@ struct Keyframe {
   cv::Mat line_descriptors;        ///< LBD, one row per line (empty when not computed)
 };
 
+/// Where a keyframe saw a feature: the keyframe's pose and the feature's pixel.
+struct FeatureView {
+  geometry::Pose T_world_cam;
+  Eigen::Vector2d px;
+};
+
 struct MapPoint {
   Id id = kNoId;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< world frame
@@ -81,6 +88,9 @@ struct MapData {
   /// Removes the point and every keyframe reference to it.
   void erase_point(Id point);
   void erase_line(Id line);
+  /// The view of feature observation `o`; nullopt when its keyframe is gone or the index is
+  /// out of range.
+  std::optional<FeatureView> feature_view(const Observation& o) const;
   /// The `n` newest keyframe ids, oldest first.
   std::vector<Id> newest_keyframes(size_t n) const;
   void clear();

@@ -88,14 +88,6 @@ double uncertainty_weight(const MapData& m, const MapPoint& point, const Pinhole
   return 1.0 / std::sqrt(1.0 + s * s);
 }
 
-/// Pose and pixel of a feature's keyframe observation, if the keyframe is still in the map.
-std::optional<std::pair<geometry::Pose, Eigen::Vector2d>> keyframe_view(const MapData& m, const Observation& o) {
-  auto kf = m.keyframes.find(o.keyframe);
-  if (kf == m.keyframes.end() || o.index < 0 || o.index >= static_cast<int>(kf->second.features.size()))
-    return std::nullopt;
-  return std::make_pair(kf->second.T_world_cam, to_eigen(kf->second.features.points[o.index]));
-}
-
 }  // namespace
 
 Odometry::Odometry(const VoConfig& config, const io::Calibration& calibration, bool use_stereo, RunStats& stats)
@@ -498,12 +490,12 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   // since their first keyframe (pose.mono_epipolar_weight).
   PoseExtras extras;
   extras.epipolar_weight = rectifier_.stereo() ? 0.0 : config_.pose.mono_epipolar_weight;
-  std::vector<std::optional<std::pair<geometry::Pose, Eigen::Vector2d>>> first_view(tracks_.size());
+  std::vector<std::optional<FeatureView>> first_view(tracks_.size());
   map_.read([&](const MapData& m) {
     for (size_t i = 0; i < tracks_.size(); ++i) {
       auto it = m.points.find(tracks_[i].point);
       if (it == m.points.end()) {
-        if (extras.epipolar_weight > 0) first_view[i] = keyframe_view(m, tracks_[i].origin);
+        if (extras.epipolar_weight > 0) first_view[i] = m.feature_view(tracks_[i].origin);
         continue;
       }
       positions[i] = it->second.position, known[i] = 1;
@@ -585,7 +577,7 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   }
   for (size_t i = 0; i < tracks_.size(); ++i)
     if (first_view[i] && tr.ok[i])
-      extras.epipolar.push_back({first_view[i]->first, camera_.normalised(first_view[i]->second),
+      extras.epipolar.push_back({first_view[i]->T_world_cam, camera_.normalised(first_view[i]->px),
                                  camera_.normalised(to_eigen(tr.points[i]))});
 
   PoseEstimate estimate;
@@ -1060,11 +1052,9 @@ std::optional<double> Odometry::candidate_parallax_deg() const {
   map_.read([&](const MapData& m) {
     for (const auto& t : tracks_) {
       if (t.point != kNoId || t.origin.keyframe == kNoId) continue;
-      auto kf = m.keyframes.find(t.origin.keyframe);
-      if (kf == m.keyframes.end() || t.origin.index < 0 ||
-          t.origin.index >= static_cast<int>(kf->second.features.size()))
-        continue;
-      const Eigen::Vector3d a = bearing(kf->second.T_world_cam.linear(), to_eigen(kf->second.features.points[t.origin.index]));
+      const auto view = m.feature_view(t.origin);
+      if (!view) continue;
+      const Eigen::Vector3d a = bearing(view->T_world_cam.linear(), view->px);
       const Eigen::Vector3d b = bearing(R_world_now, to_eigen(t.px));
       angles.push_back(std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI);
     }
