@@ -213,16 +213,15 @@ TEST(PoseRefiner, DownWeightedPointsPullThePoseLess) {
   EXPECT_LT(e_weighted, 0.1 * e_full);
 }
 
-TEST(PoseRefiner, EpipolarTracksHoldTheRotationWhenMapPointsAreFew) {
-  // Camera 1 of a sideways pair follows 6 map points with 1.5 px noise, and 120 tracks without a
-  // map point (0.5 px noise) seen by camera 0. The tracks' epipolar errors constrain the rotation
-  // and the direction of motion, not its length; the map points still set the position.
+/// Camera 1 of a sideways pair follows 6 map points with 1.5 px noise, and 120 tracks without a
+/// map point (0.5 px noise) seen by camera 0; the problem starts off the true pose `T1`.
+static PoseRefinementProblem few_points_many_tracks(Pose& T1) {
   const auto scene = make_scene(2, 126, 0, 74);
   std::mt19937 rng(75);
   PoseRefinementProblem problem;
   problem.focal_px = kFocal;
   const Pose& T0 = scene.T_world_cam[0];
-  const Pose& T1 = scene.T_world_cam[1];
+  T1 = scene.T_world_cam[1];
   for (size_t i = 0; i < scene.points.size(); ++i) {
     Eigen::Vector2d xy0, xy1;
     observe(T0, scene.points[i], xy0);
@@ -233,6 +232,14 @@ TEST(PoseRefiner, EpipolarTracksHoldTheRotationWhenMapPointsAreFew) {
       problem.epipolar.push_back({T0, add_noise(xy0, 0.5, rng), add_noise(xy1, 0.5, rng)});
   }
   problem.T_world_cam = perturb(T1, 0.05, 2.0, rng);
+  return problem;
+}
+
+TEST(PoseRefiner, EpipolarTracksHoldTheRotationWhenMapPointsAreFew) {
+  // few_points_many_tracks: the tracks' epipolar errors constrain the rotation
+  // and the direction of motion, not its length; the map points still set the position.
+  Pose T1;
+  PoseRefinementProblem problem = few_points_many_tracks(T1);
   PoseRefinerConfig config;
   config.min_inliers = 4;
   const PoseRefiner refiner(config);
@@ -250,6 +257,29 @@ TEST(PoseRefiner, EpipolarTracksHoldTheRotationWhenMapPointsAreFew) {
   EXPECT_LT(r_tracks, 0.3 * r_points);
   EXPECT_LT(r_tracks, 0.5);
   EXPECT_LT(translation_error(with_tracks.T_world_cam, T1), translation_error(points_only.T_world_cam, T1));
+}
+
+TEST(PoseRefiner, EpipolarTrackWeightScalesEachTracksPull) {
+  // few_points_many_tracks: tracks at weight 0 leave the pose the map points give; tracks at weight
+  // 0.5 with the problem's weight 2 give the pose of weight 1 everywhere.
+  Pose T1;
+  PoseRefinementProblem problem = few_points_many_tracks(T1);
+  PoseRefinerConfig config;
+  config.min_inliers = 4;
+  const PoseRefiner refiner(config);
+  const auto points_only = refiner.refine(problem);
+  problem.epipolar_weight = 1.0;
+  const auto full = refiner.refine(problem);
+  for (auto& o : problem.epipolar) o.weight = 0.0;
+  const auto zero = refiner.refine(problem);
+  problem.epipolar_weight = 2.0;
+  for (auto& o : problem.epipolar) o.weight = 0.5;
+  const auto halves = refiner.refine(problem);
+  ASSERT_TRUE(points_only.ok && full.ok && zero.ok && halves.ok);
+  EXPECT_LT(rotation_error_deg(zero.T_world_cam, points_only.T_world_cam), 1e-6);
+  EXPECT_LT(translation_error(zero.T_world_cam, points_only.T_world_cam), 1e-8);
+  EXPECT_LT(rotation_error_deg(halves.T_world_cam, full.T_world_cam), 1e-6);
+  EXPECT_GT(rotation_error_deg(full.T_world_cam, points_only.T_world_cam), 0.5);  // the tracks do pull
 }
 
 TEST(PoseRefiner, EpipolarErrorIsZeroAtTheTruePoseWhateverTheStepLength) {

@@ -88,6 +88,7 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.pose.mono_frame_motion_min_inliers, code.pose.mono_frame_motion_min_inliers);
   EXPECT_DOUBLE_EQ(file.pose.mono_point_uncertainty_px, code.pose.mono_point_uncertainty_px);
   EXPECT_DOUBLE_EQ(file.pose.mono_epipolar_weight, code.pose.mono_epipolar_weight);
+  EXPECT_DOUBLE_EQ(file.pose.mono_epipolar_full_weight_deg, code.pose.mono_epipolar_full_weight_deg);
   EXPECT_EQ(file.pose.mono_frame_motion_max_frames, code.pose.mono_frame_motion_max_frames);
   EXPECT_DOUBLE_EQ(file.pose.mono_frame_motion_max_rotation_change_deg, code.pose.mono_frame_motion_max_rotation_change_deg);
   EXPECT_DOUBLE_EQ(file.pose.mono_frame_motion_max_translation_change_deg,
@@ -183,14 +184,19 @@ TEST(VoConfig, FrameMotionKeysAreReadAndChecked) {
 TEST(VoConfig, MonocularPoseTermKeysAreReadAndChecked) {
   EXPECT_DOUBLE_EQ(VoConfig().pose.mono_point_uncertainty_px, 0.0);  // off unless asked for
   EXPECT_DOUBLE_EQ(VoConfig().pose.mono_epipolar_weight, 0.0);
-  const VoConfig c = VoConfig::load(
-      write_yaml("monoterms", "pose:\n  mono_point_uncertainty_px: 1.5\n  mono_epipolar_weight: 0.5\n"));
+  EXPECT_DOUBLE_EQ(VoConfig().pose.mono_epipolar_full_weight_deg, 0.0);
+  const VoConfig c = VoConfig::load(write_yaml(
+      "monoterms",
+      "pose:\n  mono_point_uncertainty_px: 1.5\n  mono_epipolar_weight: 0.5\n  mono_epipolar_full_weight_deg: 2\n"));
   EXPECT_DOUBLE_EQ(c.pose.mono_point_uncertainty_px, 1.5);
   EXPECT_DOUBLE_EQ(c.pose.mono_epipolar_weight, 0.5);
+  EXPECT_DOUBLE_EQ(c.pose.mono_epipolar_full_weight_deg, 2.0);
   for (const char* bad : {"mono_point_uncertainty_px: -1", "mono_point_uncertainty_px: .inf"})
     expect_rejected("baduncertainty", std::string("pose:\n  ") + bad + "\n", "pose.mono_point_uncertainty_px");
   for (const char* bad : {"mono_epipolar_weight: -0.1", "mono_epipolar_weight: .nan"})
     expect_rejected("badepipolar", std::string("pose:\n  ") + bad + "\n", "pose.mono_epipolar_weight");
+  for (const char* bad : {"mono_epipolar_full_weight_deg: -1", "mono_epipolar_full_weight_deg: .inf"})
+    expect_rejected("badepipolardeg", std::string("pose:\n  ") + bad + "\n", "pose.mono_epipolar_full_weight_deg");
 }
 
 TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {

@@ -104,7 +104,7 @@ class Linearization {
     const Eigen::Vector3d Ex0 = E * x0, Etx1 = E.transpose() * x1;
     const double d = Ex0.head<2>().squaredNorm() + Etx1.head<2>().squaredNorm();
     if (d < 1e-18) return false;
-    r = problem_.epipolar_weight * problem_.focal_px * x1.dot(Ex0) / std::sqrt(d);
+    r = problem_.epipolar_weight * o.weight * problem_.focal_px * x1.dot(Ex0) / std::sqrt(d);
     return true;
   }
 

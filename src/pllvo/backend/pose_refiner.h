@@ -63,6 +63,7 @@ struct PoseLineObservation {
 struct PoseEpipolarObservation {
   geometry::Pose T_world_first;
   Eigen::Vector2d xy_first, xy;
+  double weight = 1.0;  ///< times the problem's epipolar_weight
 };
 
 struct PoseRefinementProblem {

@@ -121,11 +121,24 @@ std::optional<Eigen::Vector3d> triangulate_point(const Pinhole& cam, const std::
   return t.p_world;
 }
 
+double baseline_angle_deg(const Eigen::Vector3d& centre_a, const Eigen::Vector3d& centre_b, double depth) {
+  if (depth <= 0) return 0.0;
+  return 2.0 * std::atan2(0.5 * (centre_a - centre_b).norm(), depth) * 180.0 / M_PI;
+}
+
 bool baseline_subtends(const std::vector<geometry::Pose>& T_world_views, const geometry::Pose& T_world_cam,
                        double depth, double min_parallax_deg) {
   double widest = 0;
-  for (const auto& T : T_world_views) widest = std::max(widest, (T.translation() - T_world_cam.translation()).norm());
-  return depth > 0 && 2.0 * std::atan2(0.5 * widest, depth) >= min_parallax_deg * M_PI / 180.0;
+  for (const auto& T : T_world_views)
+    widest = std::max(widest, baseline_angle_deg(T.translation(), T_world_cam.translation(), depth));
+  return depth > 0 && widest >= min_parallax_deg;
+}
+
+double epipolar_track_weight(const geometry::Pose& T_world_first, const geometry::Pose& T_world_cam, double depth,
+                             double full_weight_deg) {
+  if (full_weight_deg <= 0 || depth <= 0) return 1.0;
+  return std::min(1.0, baseline_angle_deg(T_world_first.translation(), T_world_cam.translation(), depth) /
+                           full_weight_deg);
 }
 
 std::vector<double> reprojection_errors_px(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,

@@ -84,6 +84,9 @@ std::optional<Eigen::Vector3d> triangulate_point(const Pinhole& cam, const std::
                                                  const std::vector<Eigen::Vector2d>& pixels,
                                                  const geometry::PointTriangulationConfig& config);
 
+/// Angle (degrees) the baseline between two camera centres subtends at `depth`; 0 without a depth.
+double baseline_angle_deg(const Eigen::Vector3d& centre_a, const Eigen::Vector3d& centre_b, double depth);
+
 /// Whether views at `T_world_views` and a camera at `T_world_cam` are far enough apart to
 /// triangulate at `depth` (the scene's median depth): the widest baseline subtends at least
 /// `min_parallax_deg` there. Unlike a point's own parallax it does not depend on the point's
@@ -119,6 +122,12 @@ std::optional<geometry::Pose> follow_keyframe_adjustment(const Pinhole& cam,
 /// order; that displacement is projected into the camera. Without a second view: 1e9.
 double depth_uncertainty_px(const Pinhole& cam, const Eigen::Vector3d& p_world,
                             const std::vector<Eigen::Vector3d>& keyframe_centres, const geometry::Pose& T_world_cam);
+
+/// Weight of a monocular track's epipolar error (pose.mono_epipolar_full_weight_deg):
+/// min(1, angle its first view's baseline to the camera subtends at `depth` / `full_weight_deg`).
+/// 1 when `full_weight_deg` is 0 (off) or the depth is unknown.
+double epipolar_track_weight(const geometry::Pose& T_world_first, const geometry::Pose& T_world_cam, double depth,
+                             double full_weight_deg);
 
 /// Median of the depths of `points_world` in the camera at `T_world_cam`; 0 when there are none.
 double median_depth(const std::vector<Eigen::Vector3d>& points_world, const geometry::Pose& T_world_cam);

@@ -575,10 +575,13 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     px.push_back(to_eigen(tr.points[i]));
     if (!weights.empty()) extras.point_weights.push_back(weights[i]);
   }
+  const double full_weight_deg = config_.pose.mono_epipolar_full_weight_deg;
+  const double depth = extras.epipolar_weight > 0 && full_weight_deg > 0 ? median_depth(pts, T_world_pred) : 0.0;
   for (size_t i = 0; i < tracks_.size(); ++i)
     if (first_view[i] && tr.ok[i])
       extras.epipolar.push_back({first_view[i]->T_world_cam, camera_.normalised(first_view[i]->px),
-                                 camera_.normalised(to_eigen(tr.points[i]))});
+                                 camera_.normalised(to_eigen(tr.points[i])),
+                                 epipolar_track_weight(first_view[i]->T_world_cam, T_world_pred, depth, full_weight_deg)});
 
   PoseEstimate estimate;
   {

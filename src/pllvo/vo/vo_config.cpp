@@ -103,6 +103,7 @@ void read_pose(const ConfigNode& n, PoseConfig& c) {
   n.get("mono_frame_motion_translation_sigma_deg", c.mono_frame_motion_translation_sigma_deg);
   n.get("mono_point_uncertainty_px", c.mono_point_uncertainty_px);
   n.get("mono_epipolar_weight", c.mono_epipolar_weight);
+  n.get("mono_epipolar_full_weight_deg", c.mono_epipolar_full_weight_deg);
   n.reject_unknown_keys();
 }
 
@@ -272,6 +273,8 @@ void VoConfig::validate(const std::filesystem::path& file) const {
           "pose.mono_point_uncertainty_px", "must be >= 0 (0: off)");
   require(pose.mono_epipolar_weight >= 0 && std::isfinite(pose.mono_epipolar_weight), file, "pose.mono_epipolar_weight",
           "must be >= 0 (0: off)");
+  require(pose.mono_epipolar_full_weight_deg >= 0 && std::isfinite(pose.mono_epipolar_full_weight_deg), file,
+          "pose.mono_epipolar_full_weight_deg", "must be >= 0 (0: every track at full weight)");
   require(pose.mono_frame_motion_max_frames >= 1, file, "pose.mono_frame_motion_max_frames", "must be at least 1");
   require(pose.mono_frame_motion_max_rotation_change_deg > 0 && pose.mono_frame_motion_max_rotation_change_deg <= 180,
           file, "pose.mono_frame_motion_max_rotation_change_deg", "must be in (0, 180]");

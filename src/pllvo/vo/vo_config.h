@@ -253,6 +253,11 @@ struct PoseConfig {
   /// thin map (a fast turn, a start from a low-parallax pair) holds its orientation. At 1:
   /// neutral in low light, worse in normal light (docs/vo.md session 28; 0: off).
   double mono_epipolar_weight = 0.0;
+  /// Each such track's epipolar error is scaled by min(1, a / this), a (degrees) being the
+  /// angle its first keyframe's baseline to the predicted camera subtends at the map's median
+  /// depth: a track seen from almost the same place says little about the direction of motion
+  /// but its noise would still pull it. 0: every track at full weight.
+  double mono_epipolar_full_weight_deg = 0.0;
 };
 
 /// New keyframes: their features without a point matched with recent keyframes' points by
