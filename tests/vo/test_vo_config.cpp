@@ -89,6 +89,9 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_DOUBLE_EQ(file.pose.mono_point_uncertainty_px, code.pose.mono_point_uncertainty_px);
   EXPECT_DOUBLE_EQ(file.pose.mono_epipolar_weight, code.pose.mono_epipolar_weight);
   EXPECT_DOUBLE_EQ(file.pose.mono_epipolar_full_weight_deg, code.pose.mono_epipolar_full_weight_deg);
+  EXPECT_DOUBLE_EQ(file.pose.mono_epipolar_max_s, code.pose.mono_epipolar_max_s);
+  EXPECT_EQ(file.pose.mono_epipolar_starts, code.pose.mono_epipolar_starts);
+  EXPECT_DOUBLE_EQ(file.pose.mono_epipolar_max_noise, code.pose.mono_epipolar_max_noise);
   EXPECT_EQ(file.pose.mono_frame_motion_max_frames, code.pose.mono_frame_motion_max_frames);
   EXPECT_DOUBLE_EQ(file.pose.mono_frame_motion_max_rotation_change_deg, code.pose.mono_frame_motion_max_rotation_change_deg);
   EXPECT_DOUBLE_EQ(file.pose.mono_frame_motion_max_translation_change_deg,
@@ -197,6 +200,26 @@ TEST(VoConfig, MonocularPoseTermKeysAreReadAndChecked) {
     expect_rejected("badepipolar", std::string("pose:\n  ") + bad + "\n", "pose.mono_epipolar_weight");
   for (const char* bad : {"mono_epipolar_full_weight_deg: -1", "mono_epipolar_full_weight_deg: .inf"})
     expect_rejected("badepipolardeg", std::string("pose:\n  ") + bad + "\n", "pose.mono_epipolar_full_weight_deg");
+}
+
+TEST(VoConfig, EpipolarTrackGatesAreReadCheckedAndApplied) {
+  const VoConfig c = VoConfig::load(write_yaml(
+      "epigates", "pose:\n  mono_epipolar_weight: 0.5\n  mono_epipolar_max_s: 1.5\n"
+                  "  mono_epipolar_starts: homography\n  mono_epipolar_max_noise: 3\n"));
+  const PoseConfig& p = c.pose;
+  EXPECT_DOUBLE_EQ(p.mono_epipolar_max_s, 1.5);
+  EXPECT_DOUBLE_EQ(p.epipolar_weight_at(1.0, "homography", 1.2), 0.5);  // young map, weak start, clean frame
+  EXPECT_DOUBLE_EQ(p.epipolar_weight_at(1.6, "homography", 1.2), 0.0);  // later than 1.5 s after the start
+  EXPECT_DOUBLE_EQ(p.epipolar_weight_at(1.0, "essential", 1.2), 0.0);   // a well-conditioned start
+  EXPECT_DOUBLE_EQ(p.epipolar_weight_at(1.0, "homography", 3.0), 0.0);  // a noisy (low-light) frame
+  // Open gates let every frame in; the weight at 0 keeps the tracks out.
+  const PoseConfig open = VoConfig::load(write_yaml("epiopen", "pose:\n  mono_epipolar_weight: 1\n")).pose;
+  EXPECT_DOUBLE_EQ(open.epipolar_weight_at(100.0, "essential", 20.0), 1.0);
+  EXPECT_DOUBLE_EQ(VoConfig().pose.epipolar_weight_at(0.0, "homography", 0.0), 0.0);
+  for (const char* bad : {"mono_epipolar_max_s: -1", "mono_epipolar_starts: planar", "mono_epipolar_max_noise: .nan"}) {
+    const std::string key = std::string(bad).substr(0, std::string(bad).find(':'));
+    expect_rejected("badepigate", std::string("pose:\n  ") + bad + "\n", "pose." + key);
+  }
 }
 
 TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {

@@ -384,6 +384,7 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   mono_.reset();
   T_world_work_ = T_world_cur;
   start_tracking(result, frame.timestamp);
+  map_start_model_ = two_view.model;
   spdlog::info("monocular initialisation ({}) between frames {} and {}: {} points, median parallax {:.2f} deg",
                two_view.model, reference.frame_index, frame.index, made, two_view.median_parallax_deg);
   return true;
@@ -421,6 +422,7 @@ void Odometry::localize_init_frames(const MonoReference& ref,
 
 void Odometry::start_tracking(const KeyframeResult& result, double timestamp) {
   state_ = TrackingState::kTracking;
+  map_start_time_ = timestamp;
   tracks_ = result.tracks;
   line_tracks_ = result.lines;
   set_reference_lines(line_tracks_);
@@ -489,7 +491,10 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   // Monocular: tracks without a map point constrain the rotation and the direction of motion
   // since their first keyframe (pose.mono_epipolar_weight).
   PoseExtras extras;
-  extras.epipolar_weight = rectifier_.stereo() ? 0.0 : config_.pose.mono_epipolar_weight;
+  extras.epipolar_weight =
+      rectifier_.stereo()
+          ? 0.0
+          : config_.pose.epipolar_weight_at(frame.timestamp - map_start_time_, map_start_model_, frame_noise_);
   std::vector<std::optional<FeatureView>> first_view(tracks_.size());
   map_.read([&](const MapData& m) {
     for (size_t i = 0; i < tracks_.size(); ++i) {
