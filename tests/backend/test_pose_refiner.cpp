@@ -235,17 +235,26 @@ static PoseRefinementProblem few_points_many_tracks(Pose& T1) {
   return problem;
 }
 
+/// few_points_many_tracks refined on the map points alone and with the tracks at weight 1.
+struct TracksAgainstPoints {
+  Pose T1;
+  PoseRefinementProblem problem = few_points_many_tracks(T1);
+  PoseRefiner refiner{PoseRefinerConfig{.min_inliers = 4}};
+  PoseRefinementResult points_only, with_tracks;
+  TracksAgainstPoints() {
+    points_only = refiner.refine(problem);
+    problem.epipolar_weight = 1.0;
+    with_tracks = refiner.refine(problem);
+  }
+};
+
 TEST(PoseRefiner, EpipolarTracksHoldTheRotationWhenMapPointsAreFew) {
   // few_points_many_tracks: the tracks' epipolar errors constrain the rotation
   // and the direction of motion, not its length; the map points still set the position.
-  Pose T1;
-  PoseRefinementProblem problem = few_points_many_tracks(T1);
-  PoseRefinerConfig config;
-  config.min_inliers = 4;
-  const PoseRefiner refiner(config);
-  const auto points_only = refiner.refine(problem);
-  problem.epipolar_weight = 1.0;
-  const auto with_tracks = refiner.refine(problem);
+  const TracksAgainstPoints t;
+  const Pose& T1 = t.T1;
+  const auto& points_only = t.points_only;
+  const auto& with_tracks = t.with_tracks;
   ASSERT_TRUE(points_only.ok);
   ASSERT_TRUE(with_tracks.ok);
   const double r_points = rotation_error_deg(points_only.T_world_cam, T1);
@@ -262,19 +271,14 @@ TEST(PoseRefiner, EpipolarTracksHoldTheRotationWhenMapPointsAreFew) {
 TEST(PoseRefiner, EpipolarTrackWeightScalesEachTracksPull) {
   // few_points_many_tracks: tracks at weight 0 leave the pose the map points give; tracks at weight
   // 0.5 with the problem's weight 2 give the pose of weight 1 everywhere.
-  Pose T1;
-  PoseRefinementProblem problem = few_points_many_tracks(T1);
-  PoseRefinerConfig config;
-  config.min_inliers = 4;
-  const PoseRefiner refiner(config);
-  const auto points_only = refiner.refine(problem);
-  problem.epipolar_weight = 1.0;
-  const auto full = refiner.refine(problem);
-  for (auto& o : problem.epipolar) o.weight = 0.0;
-  const auto zero = refiner.refine(problem);
-  problem.epipolar_weight = 2.0;
-  for (auto& o : problem.epipolar) o.weight = 0.5;
-  const auto halves = refiner.refine(problem);
+  TracksAgainstPoints t;
+  const auto& points_only = t.points_only;
+  const auto& full = t.with_tracks;
+  for (auto& o : t.problem.epipolar) o.weight = 0.0;
+  const auto zero = t.refiner.refine(t.problem);
+  t.problem.epipolar_weight = 2.0;
+  for (auto& o : t.problem.epipolar) o.weight = 0.5;
+  const auto halves = t.refiner.refine(t.problem);
   ASSERT_TRUE(points_only.ok && full.ok && zero.ok && halves.ok);
   EXPECT_LT(rotation_error_deg(zero.T_world_cam, points_only.T_world_cam), 1e-6);
   EXPECT_LT(translation_error(zero.T_world_cam, points_only.T_world_cam), 1e-8);
