@@ -423,6 +423,7 @@ void Odometry::localize_init_frames(const MonoReference& ref,
 void Odometry::start_tracking(const KeyframeResult& result, double timestamp) {
   state_ = TrackingState::kTracking;
   map_start_time_ = timestamp;
+  map_start_model_.clear();  // set by a two-view start; a stereo start or a resumed map has none
   tracks_ = result.tracks;
   line_tracks_ = result.lines;
   set_reference_lines(line_tracks_);

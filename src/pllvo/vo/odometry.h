@@ -188,7 +188,7 @@ class Odometry {
   int lost_frames_ = 0;
   int frame_motion_run_ = 0;  ///< consecutive frames posed by pose_from_frame_motion
   double map_start_time_ = 0;  ///< timestamp of the current map's start (start_tracking)
-  std::string map_start_model_;  ///< model of its two-view start (mono: homography | essential)
+  std::string map_start_model_;  ///< model of its two-view start (homography | essential; else empty)
   /// The last tracked frame, and the mean position step per frame before it, kept over a reset
   /// (restart_pose), from the positions of the last consecutive tracked frames.
   size_t last_tracked_index_ = 0;
