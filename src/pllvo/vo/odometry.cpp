@@ -383,8 +383,7 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   localize_init_frames(ref, ref_points, T_world_ref);
   mono_.reset();
   T_world_work_ = T_world_cur;
-  start_tracking(result, frame.timestamp);
-  map_start_model_ = two_view.model;
+  start_tracking(result, frame.timestamp, two_view.model);
   spdlog::info("monocular initialisation ({}) between frames {} and {}: {} points, median parallax {:.2f} deg",
                two_view.model, reference.frame_index, frame.index, made, two_view.median_parallax_deg);
   return true;
@@ -420,10 +419,10 @@ void Odometry::localize_init_frames(const MonoReference& ref,
   }
 }
 
-void Odometry::start_tracking(const KeyframeResult& result, double timestamp) {
+void Odometry::start_tracking(const KeyframeResult& result, double timestamp, const std::string& start_model) {
   state_ = TrackingState::kTracking;
   map_start_time_ = timestamp;
-  map_start_model_.clear();  // set by a two-view start; a stereo start or a resumed map has none
+  map_start_model_ = start_model;
   tracks_ = result.tracks;
   line_tracks_ = result.lines;
   set_reference_lines(line_tracks_);

@@ -124,7 +124,9 @@ class Odometry {
   /// `result`'s bundle-adjustment correction.
   void drop_inconsistent_tracks(std::vector<TrackedPoint>& tracks, const KeyframeResult& result);
   void drop_inconsistent_lines(std::vector<TrackedLine>& lines) const;
-  void start_tracking(const KeyframeResult& result, double timestamp);
+  /// `start_model`: the two-view start's model (homography | essential); empty for a stereo
+  /// start or a resumed map.
+  void start_tracking(const KeyframeResult& result, double timestamp, const std::string& start_model = {});
   /// Poses of the frames seen during monocular initialisation, by PnP on the new map.
   void localize_init_frames(const MonoReference& ref, const std::vector<std::optional<Eigen::Vector3d>>& points,
                             const geometry::Pose& T_world_ref);
