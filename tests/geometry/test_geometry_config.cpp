@@ -46,6 +46,7 @@ TEST(GeometryConfig, DefaultFileMatchesTheDefaultsInCode) {
   EXPECT_EQ(c.two_view.min_triangulated, d.two_view.min_triangulated);
   EXPECT_EQ(c.two_view.min_good_fraction, d.two_view.min_good_fraction);
   EXPECT_EQ(c.two_view.max_ambiguity, d.two_view.max_ambiguity);
+  EXPECT_EQ(c.two_view.max_direction_sigma_deg, d.two_view.max_direction_sigma_deg);
   EXPECT_EQ(c.stereo.max_epipolar_error_px, d.stereo.max_epipolar_error_px);
   EXPECT_EQ(c.stereo.min_disparity_px, d.stereo.min_disparity_px);
   EXPECT_EQ(c.stereo.max_disparity_px, d.stereo.max_disparity_px);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/loss_function.h>
 #include <ceres/manifold.h>
@@ -25,6 +26,9 @@ constexpr double kRadToDeg = 180.0 / M_PI;
 constexpr double kCheiralityMinParallaxDeg = 0.36;
 // Standard deviation that holds a translation direction in place in refine_motion.
 constexpr double kFixedDirectionSigmaDeg = 0.01;
+// Floor of the noise behind the direction's uncertainty (pixels): noise-free matches would
+// otherwise claim any short baseline exact.
+constexpr double kMinDirectionNoisePx = 0.05;
 constexpr const char* kFarDirection = "translation far from the expected direction";
 
 Eigen::Vector3d homogeneous(const Eigen::Vector2d& x) { return {x.x(), x.y(), 1.0}; }
@@ -155,6 +159,59 @@ void refine_motion(Eigen::Matrix3d& R, Eigen::Vector3d& t, std::span<const Eigen
   t = Eigen::Vector3d(tt[0], tt[1], tt[2]).normalized();
 }
 
+/// Sampson distance (pixels) of one match under (R, t), outside Ceres.
+double sampson_px(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const Eigen::Vector2d& x0,
+                  const Eigen::Vector2d& x1, double focal_px) {
+  const Eigen::Quaterniond q(R);
+  const double q_xyzw[4] = {q.x(), q.y(), q.z(), q.w()};
+  double r = 0;
+  if (!SampsonError{x0, x1, focal_px}(q_xyzw, t.data(), &r)) return 0.0;
+  return r;
+}
+
+/// Two unit vectors orthogonal to t and to each other: the tangent plane of the sphere at t.
+Eigen::Matrix<double, 3, 2> sphere_tangent(const Eigen::Vector3d& t) {
+  const Eigen::Vector3d a = std::abs(t.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  Eigen::Matrix<double, 3, 2> B;
+  B.col(0) = t.cross(a).normalized();
+  B.col(1) = t.cross(B.col(0)).normalized();
+  return B;
+}
+
+/// Direction k of n spread evenly over the half sphere z >= 0 (a Fibonacci lattice); the
+/// Sampson error does not see the sign of a translation.
+Eigen::Vector3d hemisphere_direction(int k, int n) {
+  const double z = 1.0 - (k + 0.5) / n, r = std::sqrt(std::max(0.0, 1.0 - z * z));
+  const double phi = k * M_PI * (3.0 - std::sqrt(5.0));
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+/// Over a short baseline the Sampson cost has more than one valley (a sideways step passes for
+/// a forward one with a little more rotation) and a minimal-sample RANSAC winner may lie in the
+/// wrong one; a refinement from it stays there (docs/vo.md, session 30). So the motion is
+/// refined from the winner and from `config.direction_search_starts` directions spread over the
+/// sphere, and the one whose errors score best (ORB-SLAM's score, all matches) is kept, its
+/// sign chosen by cheirality. Returns the winner unchanged when the search is off.
+Candidate search_direction(const Candidate& winner, std::span<const Eigen::Vector2d> xy0,
+                           std::span<const Eigen::Vector2d> xy1, const std::vector<uint8_t>& inliers,
+                           double focal_px, double max_error, const TwoViewConfig& config) {
+  const int n = config.direction_search_starts;
+  if (n <= 0) return Candidate(winner.R, winner.t);
+  std::vector<uint8_t> scratch;
+  Candidate best(winner.R, winner.t);
+  double best_score = -1;
+  for (int k = -1; k < n; ++k) {
+    Candidate c(winner.R, k < 0 ? winner.t : hemisphere_direction(k, n));
+    refine_motion(c.R, c.t, xy0, xy1, inliers, focal_px, config.sigma_px);
+    const double score = score_essential(hat(c.t) * c.R, xy0, xy1, focal_px, config.sigma_px, scratch);
+    if (score > best_score) best_score = score, best = c;
+  }
+  Candidate flipped(best.R, -best.t);
+  evaluate(best, xy0, xy1, inliers, max_error, config);
+  evaluate(flipped, xy0, xy1, inliers, max_error, config);
+  return Candidate(best.R, flipped.informative > best.informative ? flipped.t : best.t);
+}
+
 std::vector<cv::Point2d> to_cv(std::span<const Eigen::Vector2d> xy) {
   std::vector<cv::Point2d> out(xy.size());
   for (size_t i = 0; i < xy.size(); ++i) out[i] = {xy[i].x(), xy[i].y()};
@@ -213,6 +270,8 @@ void TwoViewConfig::load(const ConfigNode& node) {
   node.get("min_triangulated", min_triangulated);
   node.get("min_good_fraction", min_good_fraction);
   node.get("max_ambiguity", max_ambiguity);
+  node.get("max_direction_sigma_deg", max_direction_sigma_deg);
+  node.get("direction_search_starts", direction_search_starts);
   node.reject_unknown_keys();
 }
 
@@ -324,30 +383,48 @@ TwoViewResult initialise_two_view(std::span<const Eigen::Vector2d> xy0,
 
   // Refine the winner, re-select the inliers with the refined motion (the RANSAC model's
   // inlier set is biased by its error), refine again, and triangulate with the result.
-  Candidate refined(best.R, best.t);
   std::vector<uint8_t> refined_inliers = out.inliers;
+  for (size_t i = 0; i < n; ++i) refined_inliers[i] = inliers_e[i] || inliers_h[i];
+  Candidate refined = search_direction(best, xy0, xy1, refined_inliers, focal_px, max_error, config);
+  refined_inliers = out.inliers;
   for (int pass = 0; pass < 2; ++pass) {
     refine_motion(refined.R, refined.t, xy0, xy1, refined_inliers, focal_px, config.sigma_px);
     score_essential(hat(refined.t) * refined.R, xy0, xy1, focal_px, config.sigma_px, refined_inliers);
   }
   evaluate(refined, xy0, xy1, refined_inliers, max_error, config);
-  // The refinement may slide a weakly determined translation (small parallax, homography
-  // start) to a motion that explains the matches but triangulates nothing: keep it only when
-  // it still passes the same checks as the RANSAC winner.
+  // Without the search, the refinement may slide a weakly determined translation (small
+  // parallax, homography start) to a motion that explains the matches but triangulates
+  // nothing: it is kept only when it still passes the same checks as the RANSAC winner. With
+  // the search, the refined motion is the estimate and must pass them itself.
   const int refined_triangulated =
       static_cast<int>(std::count(refined.triangulated.begin(), refined.triangulated.end(), 1));
-  const bool use_refined = refined.good >= best.good * config.min_good_fraction &&
-                           refined.median_parallax_deg >= config.min_median_parallax_deg &&
-                           refined_triangulated >= config.min_triangulated;
+  const bool refined_passes = refined.median_parallax_deg >= config.min_median_parallax_deg &&
+                              refined_triangulated >= config.min_triangulated;
+  const bool searched = config.direction_search_starts > 0;
+  const bool use_refined = searched || (refined.good >= best.good * config.min_good_fraction && refined_passes);
   const Candidate& final_motion = use_refined ? refined : best;
   if (use_refined) out.inliers = refined_inliers;
-  out.ok = true;
+  if (searched && !refined_passes) {
+    // The searched motion explains the matches best; the winner's larger parallax belongs to a
+    // wrong motion (docs/vo.md, session 30), so the start waits for a longer baseline.
+    out.median_parallax_deg = refined.median_parallax_deg;
+    out.num_triangulated = refined_triangulated;
+    out.failure = refined.median_parallax_deg < config.min_median_parallax_deg ? "parallax too low"
+                                                                               : "too few triangulated points";
+    return out;
+  }
   out.T_cam1_cam0 = make_pose(final_motion.R, final_motion.t);
+  out.direction = translation_direction_uncertainty(out.T_cam1_cam0, xy0, xy1, out.inliers, focal_px);
+  out.median_parallax_deg = final_motion.median_parallax_deg;
+  if (config.max_direction_sigma_deg > 0 && !(out.direction.sigma_deg <= config.max_direction_sigma_deg)) {
+    out.failure = "translation direction uncertain";
+    return out;
+  }
+  out.ok = true;
   out.points_cam0 = final_motion.points;
   out.triangulated = final_motion.triangulated;
   out.num_triangulated =
       static_cast<int>(std::count(final_motion.triangulated.begin(), final_motion.triangulated.end(), 1));
-  out.median_parallax_deg = final_motion.median_parallax_deg;
   return out;
 }
 
@@ -419,6 +496,47 @@ RelativeMotion estimate_relative_motion(std::span<const Eigen::Vector2d> xy0,
     out.translation_kept = true;
   }
   out.ok = out.failure.empty();
+  return out;
+}
+
+DirectionUncertainty translation_direction_uncertainty(const Pose& T_cam1_cam0, std::span<const Eigen::Vector2d> xy0,
+                                                       std::span<const Eigen::Vector2d> xy1,
+                                                       const std::vector<uint8_t>& inliers, double focal_px) {
+  DirectionUncertainty out;
+  const Eigen::Matrix3d R = T_cam1_cam0.linear();
+  const Eigen::Vector3d t = T_cam1_cam0.translation().normalized();
+  const Eigen::Matrix<double, 3, 2> B = sphere_tangent(t);
+  // Motion perturbation d: rotation Exp(d[0..2]) * R, direction normalize(t + B d[3..4]).
+  auto residual = [&](size_t i, const Eigen::Matrix<double, 5, 1>& d) {
+    return sampson_px(so3_exp(d.head<3>()) * R, (t + B * d.tail<2>()).normalized(), xy0[i], xy1[i], focal_px);
+  };
+  constexpr double kStep = 1e-6;
+  Eigen::Matrix<double, 5, 5> information = Eigen::Matrix<double, 5, 5>::Zero();
+  double sum2 = 0;
+  for (size_t i = 0; i < xy0.size() && i < xy1.size() && i < inliers.size(); ++i) {
+    if (!inliers[i]) continue;
+    const double r = residual(i, Eigen::Matrix<double, 5, 1>::Zero());
+    Eigen::Matrix<double, 1, 5> J;
+    for (int k = 0; k < 5; ++k) {
+      Eigen::Matrix<double, 5, 1> d = Eigen::Matrix<double, 5, 1>::Zero();
+      d[k] = kStep;
+      J[k] = (residual(i, d) - residual(i, -d)) / (2 * kStep);
+    }
+    information += J.transpose() * J;
+    sum2 += r * r;
+    ++out.num_matches;
+  }
+  if (out.num_matches < 6) return out;
+  // The matches' own scatter is the noise: low light's noisier tracks fix the direction less.
+  out.residual_rms_px = std::sqrt(sum2 / out.num_matches);
+  const double noise_px = std::max(out.residual_rms_px, kMinDirectionNoisePx);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 5, 5>> eig(information);
+  if (eig.info() != Eigen::Success || !(eig.eigenvalues()[0] > 1e-12 * eig.eigenvalues()[4])) return out;
+  const Eigen::Matrix<double, 5, 5> covariance =
+      noise_px * noise_px * eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() *
+      eig.eigenvectors().transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> dir(covariance.bottomRightCorner<2, 2>());
+  out.sigma_deg = std::sqrt(std::max(dir.eigenvalues()[1], 0.0)) * kRadToDeg;
   return out;
 }
 

@@ -4,6 +4,7 @@
 // errors, the better model is decomposed, and the decomposition whose triangulated points
 // pass cheirality and reprojection checks (clearly ahead of the other candidates) wins.
 // The translation has unit length: the map scale is arbitrary.
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -41,8 +42,24 @@ struct TwoViewConfig {
   /// Rejected as ambiguous when another candidate explains more than this fraction of the
   /// winner's consistent points.
   double max_ambiguity = 0.7;
+  /// Rejected while the translation direction's standard deviation
+  /// (`translation_direction_uncertainty`) exceeds this many degrees (0: off).
+  double max_direction_sigma_deg = 0.0;
+  /// The motion is also refined from this many translation directions spread over the sphere
+  /// and the best-scoring one kept: over a short baseline the RANSAC winner may lie in a wrong
+  /// valley of the cost (0: refined from the winner only).
+  int direction_search_starts = 0;
 
   void load(const ConfigNode& node);
+};
+
+/// How well a two-view motion fixes its translation's direction.
+struct DirectionUncertainty {
+  /// Standard deviation (degrees) of the direction along its worse axis; infinite when the
+  /// matches leave it undetermined.
+  double sigma_deg = std::numeric_limits<double>::infinity();
+  double residual_rms_px = 0;  ///< the inliers' Sampson errors, taken as their noise
+  int num_matches = 0;
 };
 
 enum class TwoViewModel { kNone, kEssential, kHomography };
@@ -58,6 +75,7 @@ struct TwoViewResult {
   int num_triangulated = 0;  ///< by the best decomposition; also set when ok is false (why it failed)
   double median_parallax_deg = 0;
   double score_essential = 0, score_homography = 0;
+  DirectionUncertainty direction;  ///< of the final motion (ok), or of the RANSAC winner
   std::string failure;  ///< why ok is false
 };
 
@@ -65,6 +83,15 @@ struct TwoViewResult {
 TwoViewResult initialise_two_view(std::span<const Eigen::Vector2d> xy0,
                                   std::span<const Eigen::Vector2d> xy1, double focal_px,
                                   const TwoViewConfig& config = {});
+
+/// The motion's information from the inliers' Sampson errors (each match's point eliminated to
+/// first order), with the errors' own rms as noise, inverted: the direction's standard
+/// deviation with the rotation free. Over a short baseline rotation and sideways translation
+/// nearly trade for each other (the bas-relief ambiguity), so a direction can be tens of
+/// degrees off while every match fits; the median parallax does not show that, this does.
+DirectionUncertainty translation_direction_uncertainty(const Pose& T_cam1_cam0, std::span<const Eigen::Vector2d> xy0,
+                                                       std::span<const Eigen::Vector2d> xy1,
+                                                       const std::vector<uint8_t>& inliers, double focal_px);
 
 /// Motion between two consecutive frames of a monocular camera, for tracking through a stretch
 /// where the map has no points in view (a fast turn): translation of unit length, its scale to

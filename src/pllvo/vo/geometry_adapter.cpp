@@ -104,6 +104,8 @@ TwoViewInit initialize_two_view(const Pinhole& cam, const std::vector<Eigen::Vec
   init.median_parallax_deg = r.median_parallax_deg;
   init.num_inliers = static_cast<int>(std::count(r.inliers.begin(), r.inliers.end(), 1));
   init.num_triangulated = r.num_triangulated;
+  init.direction_sigma_deg = r.direction.sigma_deg;
+  init.residual_rms_px = r.direction.residual_rms_px;
   if (!r.ok) return init;
   init.ok = true;
   init.T_cam1_cam0 = r.T_cam1_cam0;

@@ -73,6 +73,8 @@ struct TwoViewInit {
   double median_parallax_deg = 0;
   int num_inliers = 0;       ///< matches that fit the chosen model
   int num_triangulated = 0;  ///< of them, triangulated by the best decomposition
+  double direction_sigma_deg = 0;  ///< standard deviation of the translation direction (inf: unknown)
+  double residual_rms_px = 0;      ///< the inliers' Sampson errors
 };
 
 /// Monocular initialisation from pixel correspondences (E vs H, chosen by score).

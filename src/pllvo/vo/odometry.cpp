@@ -345,9 +345,10 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   const TwoViewInit two_view = initialize_two_view(camera_, px0, px1, config_.geometry.two_view);
   if (!two_view.ok) {
     spdlog::debug("frame {}: two-view initialisation failed ({}: {}; {} of {} matches fit, {} triangulated, median "
-                  "parallax {:.2f} deg)",
+                  "parallax {:.2f} deg, direction sigma {:.1f} deg at {:.2f} px)",
                   frame.index, two_view.model, two_view.failure, two_view.num_inliers, px0.size(),
-                  two_view.num_triangulated, two_view.median_parallax_deg);
+                  two_view.num_triangulated, two_view.median_parallax_deg, two_view.direction_sigma_deg,
+                  two_view.residual_rms_px);
     return false;
   }
 
@@ -384,8 +385,10 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   mono_.reset();
   T_world_work_ = T_world_cur;
   start_tracking(result, frame.timestamp, two_view.model);
-  spdlog::info("monocular initialisation ({}) between frames {} and {}: {} points, median parallax {:.2f} deg",
-               two_view.model, reference.frame_index, frame.index, made, two_view.median_parallax_deg);
+  spdlog::info("monocular initialisation ({}) between frames {} and {}: {} points, median parallax {:.2f} deg, "
+               "direction sigma {:.1f} deg",
+               two_view.model, reference.frame_index, frame.index, made, two_view.median_parallax_deg,
+               two_view.direction_sigma_deg);
   return true;
 }
 
