@@ -3,7 +3,9 @@
 // with RANSAC (OpenCV), scored ORB-SLAM style on all matches by their symmetric transfer
 // errors, the better model is decomposed, and the decomposition whose triangulated points
 // pass cheirality and reprojection checks (clearly ahead of the other candidates) wins.
-// The translation has unit length: the map scale is arbitrary.
+// The translation has unit length: the map scale is arbitrary. Optionally the motion is
+// searched over directions (a short baseline's cost has more than one valley) and refused when
+// its direction is too uncertain; both off by default (docs/vo.md, session 30).
 #include <limits>
 #include <span>
 #include <string>
