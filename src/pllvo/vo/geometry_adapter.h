@@ -1,6 +1,7 @@
 #pragma once
 // The pipeline's calls into geometry/ and backend/, on the pipeline's own types: pixels of
 // the ideal pinhole working images in, normalised coordinates (what those modules use) inside.
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -73,7 +74,7 @@ struct TwoViewInit {
   double median_parallax_deg = 0;
   int num_inliers = 0;       ///< matches that fit the chosen model
   int num_triangulated = 0;  ///< of them, triangulated by the best decomposition
-  double direction_sigma_deg = 0;  ///< standard deviation of the translation direction (inf: unknown)
+  double direction_sigma_deg = std::numeric_limits<double>::infinity();  ///< of the translation direction (inf: not measured)
   double residual_rms_px = 0;      ///< the inliers' Sampson errors
 };
 

@@ -344,11 +344,16 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
 
   const TwoViewInit two_view = initialize_two_view(camera_, px0, px1, config_.geometry.two_view);
   if (!two_view.ok) {
+    // The direction is measured only for a motion that passed the earlier checks.
+    const std::string direction =
+        std::isfinite(two_view.direction_sigma_deg)
+            ? fmt::format(", direction sigma {:.1f} deg at {:.2f} px", two_view.direction_sigma_deg,
+                          two_view.residual_rms_px)
+            : std::string();
     spdlog::debug("frame {}: two-view initialisation failed ({}: {}; {} of {} matches fit, {} triangulated, median "
-                  "parallax {:.2f} deg, direction sigma {:.1f} deg at {:.2f} px)",
+                  "parallax {:.2f} deg{})",
                   frame.index, two_view.model, two_view.failure, two_view.num_inliers, px0.size(),
-                  two_view.num_triangulated, two_view.median_parallax_deg, two_view.direction_sigma_deg,
-                  two_view.residual_rms_px);
+                  two_view.num_triangulated, two_view.median_parallax_deg, direction);
     return false;
   }
 
