@@ -191,12 +191,17 @@ Eigen::Vector3d hemisphere_direction(int k, int n) {
 /// wrong one; a refinement from it stays there (docs/vo.md, session 30). So the motion is
 /// refined from the winner and from `config.direction_search_starts` directions spread over the
 /// sphere, and the one whose errors score best (ORB-SLAM's score, all matches) is kept, its
-/// sign chosen by cheirality. Returns the winner unchanged when the search is off.
+/// sign chosen by cheirality. The refinements use the matches that fit either model (a wrong
+/// winner's own inliers leave out those that tell the valleys apart). Returns the winner
+/// unchanged when the search is off.
 Candidate search_direction(const Candidate& winner, std::span<const Eigen::Vector2d> xy0,
-                           std::span<const Eigen::Vector2d> xy1, const std::vector<uint8_t>& inliers,
-                           double focal_px, double max_error, const TwoViewConfig& config) {
+                           std::span<const Eigen::Vector2d> xy1, const std::vector<uint8_t>& inliers_e,
+                           const std::vector<uint8_t>& inliers_h, double focal_px, double max_error,
+                           const TwoViewConfig& config) {
   const int n = config.direction_search_starts;
   if (n <= 0) return Candidate(winner.R, winner.t);
+  std::vector<uint8_t> inliers(inliers_e.size());
+  for (size_t i = 0; i < inliers.size(); ++i) inliers[i] = inliers_e[i] || inliers_h[i];
   std::vector<uint8_t> scratch;
   Candidate best(winner.R, winner.t);
   double best_score = -1;
@@ -383,10 +388,8 @@ TwoViewResult initialise_two_view(std::span<const Eigen::Vector2d> xy0,
 
   // Refine the winner, re-select the inliers with the refined motion (the RANSAC model's
   // inlier set is biased by its error), refine again, and triangulate with the result.
+  Candidate refined = search_direction(best, xy0, xy1, inliers_e, inliers_h, focal_px, max_error, config);
   std::vector<uint8_t> refined_inliers = out.inliers;
-  for (size_t i = 0; i < n; ++i) refined_inliers[i] = inliers_e[i] || inliers_h[i];
-  Candidate refined = search_direction(best, xy0, xy1, refined_inliers, focal_px, max_error, config);
-  refined_inliers = out.inliers;
   for (int pass = 0; pass < 2; ++pass) {
     refine_motion(refined.R, refined.t, xy0, xy1, refined_inliers, focal_px, config.sigma_px);
     score_essential(hat(refined.t) * refined.R, xy0, xy1, focal_px, config.sigma_px, refined_inliers);
