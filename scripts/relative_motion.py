@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """How far a run's motion strays from the truth, measured from one frame: the monocular start's quality.
 
-  /usr/bin/python3 scripts/relative_motion.py RUN SEQ [--from F] [--to F] [--every N] [--start]
+  /usr/bin/python3 scripts/relative_motion.py RUN SEQ [--from F] [--to F] [--every N] [--start | --steps]
 
 RUN is a `pllvo run --out` folder (trajectory.tum, keyframes.tum), SEQ the EuRoC-layout sequence it
 ran on (mav0/cam0/data.csv gives the frame numbers, mav0/state_groundtruth_estimate0/data.csv the
@@ -10,7 +10,10 @@ the first two keyframes (a monocular start's reference and second view), the err
 translation direction and rotation relative to the first. Then, every N frames from --from
 (default: the first keyframe), the motion since --from: the error of its direction and rotation,
 and the estimated over the true distance (a monocular run's scale is arbitrary: read the column
-against itself; a falling column is the scale shrinking). Standard library only.
+against itself; a falling column is the scale shrinking). With --steps, the frame-to-frame motion
+instead, summed up per N frames: the mean error of each step's rotation against the true step's
+rotation (the drift of the heading, which no alignment hides), and the median error of each step's
+translation direction. Standard library only.
 """
 import argparse
 import math
@@ -100,6 +103,28 @@ def compare(est, gt, t0, t1):
     return angle_between(te, tg), angle_of(mul(transpose(Re), Rg)), ratio, angle_of(Rg)
 
 
+def print_steps(est, gt, frame_times, first, last, every):
+    """Per window of `every` frames: mean step rotation error and true step rotation, median direction error."""
+    print("frames     steps  rotation_err_deg  true_rotation_deg  median_direction_err_deg")
+    for lo in range(first + 1, min(last, len(frame_times) - 1) + 1, every):
+        rot_err, true_rot, dir_err = [], [], []
+        for f in range(lo, min(lo + every, last + 1, len(frame_times))):
+            a, b = frame_times[f - 1], frame_times[f]
+            if not all(t in est and t in gt for t in (a, b)):
+                continue
+            d, r, _, rot = compare(est, gt, a, b)
+            rot_err.append(r)
+            true_rot.append(rot)
+            dir_err.append(d)
+        hi = min(lo + every, last + 1, len(frame_times)) - 1
+        if not rot_err:
+            print(f"{lo:4d}-{hi:<4d}  0  (not tracked)")
+            continue
+        n = len(rot_err)
+        print(f"{lo:4d}-{hi:<4d} {n:4d}  {sum(rot_err) / n:16.2f}  {sum(true_rot) / n:17.2f}  "
+              f"{sorted(dir_err)[n // 2]:24.1f}")
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("run")
@@ -108,6 +133,7 @@ def main():
     p.add_argument("--to", dest="last", type=int, help="last frame (default: the last estimated)")
     p.add_argument("--every", type=int, default=10, help="frames between printed lines")
     p.add_argument("--start", action="store_true", help="print the start's line only")
+    p.add_argument("--steps", action="store_true", help="frame-to-frame errors per --every frames")
     args = p.parse_args()
     mav = args.sequence.rstrip("/") + "/mav0"
     run = args.run.rstrip("/")
@@ -133,7 +159,11 @@ def main():
     first = args.first if args.first is not None else frame_of.get(k0, 0)
     if not 0 <= first < len(frame_times) or frame_times[first] not in est:
         sys.exit(f"relative_motion: error: frame {first} has no estimated pose")
-    last = args.last if args.last is not None else len(frame_times) - 1
+    tracked = [f for f, t in enumerate(frame_times) if t in est]
+    last = args.last if args.last is not None else tracked[-1]
+    if args.steps:
+        print_steps(est, gt, frame_times, first, last, args.every)
+        return
     t0 = frame_times[first]
     print("frame  direction_err_deg  rotation_err_deg  distance_ratio  true_rotation_deg")
     for f in range(first + args.every, min(last, len(frame_times) - 1) + 1, args.every):
