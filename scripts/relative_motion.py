@@ -132,9 +132,12 @@ def main():
     p.add_argument("--from", dest="first", type=int, help="frame to measure from (default: the first keyframe)")
     p.add_argument("--to", dest="last", type=int, help="last frame (default: the last estimated)")
     p.add_argument("--every", type=int, default=10, help="frames between printed lines")
-    p.add_argument("--start", action="store_true", help="print the start's line only")
-    p.add_argument("--steps", action="store_true", help="frame-to-frame errors per --every frames")
+    what = p.add_mutually_exclusive_group()
+    what.add_argument("--start", action="store_true", help="print the start's line only")
+    what.add_argument("--steps", action="store_true", help="frame-to-frame errors per --every frames")
     args = p.parse_args()
+    if args.every < 1:
+        p.error("--every must be at least 1")
     mav = args.sequence.rstrip("/") + "/mav0"
     run = args.run.rstrip("/")
     for path in (mav + "/cam0/data.csv", mav + "/state_groundtruth_estimate0/data.csv", run + "/trajectory.tum",
