@@ -106,9 +106,10 @@ def compare(est, gt, t0, t1):
 def print_steps(est, gt, frame_times, first, last, every):
     """Per window of `every` frames: mean step rotation error and true step rotation, median direction error."""
     print("frames     steps  rotation_err_deg  true_rotation_deg  median_direction_err_deg")
-    for lo in range(first + 1, min(last, len(frame_times) - 1) + 1, every):
+    for lo in range(first + 1, last + 1, every):
+        end = min(lo + every, last + 1)
         rot_err, true_rot, dir_err = [], [], []
-        for f in range(lo, min(lo + every, last + 1, len(frame_times))):
+        for f in range(lo, end):
             a, b = frame_times[f - 1], frame_times[f]
             if not all(t in est and t in gt for t in (a, b)):
                 continue
@@ -116,12 +117,11 @@ def print_steps(est, gt, frame_times, first, last, every):
             rot_err.append(r)
             true_rot.append(rot)
             dir_err.append(d)
-        hi = min(lo + every, last + 1, len(frame_times)) - 1
         if not rot_err:
-            print(f"{lo:4d}-{hi:<4d}  0  (not tracked)")
+            print(f"{lo:4d}-{end - 1:<4d}  0  (not tracked)")
             continue
         n = len(rot_err)
-        print(f"{lo:4d}-{hi:<4d} {n:4d}  {sum(rot_err) / n:16.2f}  {sum(true_rot) / n:17.2f}  "
+        print(f"{lo:4d}-{end - 1:<4d} {n:4d}  {sum(rot_err) / n:16.2f}  {sum(true_rot) / n:17.2f}  "
               f"{sorted(dir_err)[n // 2]:24.1f}")
 
 
@@ -162,14 +162,14 @@ def main():
     first = args.first if args.first is not None else frame_of.get(k0, 0)
     if not 0 <= first < len(frame_times) or frame_times[first] not in est:
         sys.exit(f"relative_motion: error: frame {first} has no estimated pose")
-    tracked = [f for f, t in enumerate(frame_times) if t in est]
-    last = args.last if args.last is not None else tracked[-1]
+    last_tracked = max(f for f, t in enumerate(frame_times) if t in est)
+    last = min(args.last, len(frame_times) - 1) if args.last is not None else last_tracked
     if args.steps:
         print_steps(est, gt, frame_times, first, last, args.every)
         return
     t0 = frame_times[first]
     print("frame  direction_err_deg  rotation_err_deg  distance_ratio  true_rotation_deg")
-    for f in range(first + args.every, min(last, len(frame_times) - 1) + 1, args.every):
+    for f in range(first + args.every, last + 1, args.every):
         t = frame_times[f]
         if t not in est or t not in gt:
             print(f"{f:5d}  (not tracked)")
