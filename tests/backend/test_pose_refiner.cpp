@@ -314,3 +314,38 @@ TEST(PoseRefiner, EpipolarErrorIsZeroAtTheTruePoseWhateverTheStepLength) {
     EXPECT_LT(rotation_error_deg(r.T_world_cam, T1), 1e-6) << stretch;
   }
 }
+
+TEST(PoseRefiner, DirectionsHoldTheRotationAgainstATurnedMap) {
+  // The map's 20 points were placed by a camera turned 2 degrees (a drifted map): they alone
+  // give the turned rotation; 30 segments along known world directions pull it most of the way
+  // back to the truth.
+  const auto scene = make_scene(1, 20, 0, 91);
+  const Pose& T = scene.T_world_cam[0];
+  const Eigen::Matrix3d turn = pllvo::geometry::so3_exp(Eigen::Vector3d(0.0, 2.0 * M_PI / 180, 0.0));
+  const Pose T_turned = pllvo::geometry::make_pose(T.linear() * turn, T.translation());
+  PoseRefinementProblem problem;
+  problem.focal_px = kFocal;
+  problem.T_world_cam = T_turned;
+  std::mt19937 rng(3);
+  for (const auto& p : scene.points) {
+    Eigen::Vector2d xy;
+    observe(T_turned, p, xy);
+    problem.points.push_back({p, add_noise(xy, 0.3, rng), 0});
+  }
+  const std::vector<Eigen::Vector3d> dirs = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
+                                             Eigen::Vector3d::UnitZ()};
+  for (const auto& s : segments_along(T, dirs, 10, 0.3, rng))
+    problem.directions.push_back({s.direction_world, s.start, s.end});
+  PoseRefinerConfig config;
+  config.point_outlier_threshold_px = 1e3;  // every point stays in: the test is about the pull
+  const PoseRefiner refiner(config);
+  const auto points_only = refiner.refine(problem);  // direction_weight 0: unused
+  problem.direction_weight = 10.0;
+  const auto with_directions = refiner.refine(problem);
+  ASSERT_TRUE(points_only.ok && with_directions.ok);
+  const double r_points = rotation_error_deg(points_only.T_world_cam, T);
+  const double r_dirs = rotation_error_deg(with_directions.T_world_cam, T);
+  std::printf("rotation error: points %.3f deg, with 30 segments on directions %.3f deg\n", r_points, r_dirs);
+  EXPECT_GT(r_points, 1.8);
+  EXPECT_LT(r_dirs, 0.3 * r_points);
+}

@@ -362,3 +362,40 @@ TEST(SlidingWindowBA, EdgeCases) {
   BaProblem empty;
   EXPECT_TRUE(SlidingWindowBA().optimize(empty).ok);
 }
+
+TEST(SlidingWindowBA, DirectionsTurnAKeyframeBackToItsTrueRotation) {
+  // Keyframe 1 sees nothing but segments along known directions, from a pose turned 3 degrees:
+  // their vanishing-point errors alone bring its rotation back.
+  const auto scene = make_scene(2, 20, 0, 93);
+  std::mt19937 rng(4);
+  BaProblem p;
+  p.focal_px = kFocal;
+  p.direction_weight = 1.0;
+  p.keyframes.push_back({scene.T_world_cam[0], false});
+  const Pose& T1 = scene.T_world_cam[1];
+  const Eigen::Matrix3d turn = pllvo::geometry::so3_exp(Eigen::Vector3d(0.02, -0.04, 0.03));
+  // Turned about its own centre in the pose block's frame (T_cam_world keeps its translation).
+  const Pose T1_cw = T1.inverse();
+  const Pose T1_turned = pllvo::geometry::make_pose(turn * T1_cw.linear(), T1_cw.translation()).inverse();
+  p.keyframes.push_back({T1_turned, false});
+  const std::vector<Eigen::Vector3d> dirs = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
+                                             Eigen::Vector3d::UnitZ()};
+  for (const auto& s : segments_along(T1, dirs, 8, 0.0, rng)) p.direction_observations.push_back({1, s.direction_world, s.start, s.end});
+  const double before = rotation_error_deg(p.keyframes[1].T_world_cam, T1);
+  const auto summary = SlidingWindowBA().optimize(p);
+  ASSERT_TRUE(summary.ok) << summary.report;
+  EXPECT_GT(before, 2.5);
+  EXPECT_LT(rotation_error_deg(p.keyframes[1].T_world_cam, T1), 1e-3);
+  // A direction does not see the translation: T_cam_world's (the pose block's) stays.
+  EXPECT_LT((p.keyframes[1].T_world_cam.inverse().translation() - T1.inverse().translation()).norm(), 1e-9);
+  // direction_weight 0: the observations are not used.
+  BaProblem off = p;
+  off.direction_weight = 0;
+  off.keyframes[1].T_world_cam = T1_turned;
+  SlidingWindowBA().optimize(off);
+  EXPECT_GT(rotation_error_deg(off.keyframes[1].T_world_cam, T1), 2.5);
+  // An observation naming a keyframe that does not exist is a programming error.
+  BaProblem bad = p;
+  bad.direction_observations.push_back({5, Eigen::Vector3d::UnitX(), {0, 0}, {0.1, 0}});
+  EXPECT_THROW(SlidingWindowBA().optimize(bad), pllvo::InternalError);
+}

@@ -105,4 +105,34 @@ inline double distance_to_line(const Eigen::Vector3d& x, const LineSegment3d& s)
   return geometry::PluckerLine::through(s).distance(x);
 }
 
+/// A segment seen by a camera (normalised endpoints) and the world direction it runs along.
+struct SegmentAlong {
+  Eigen::Vector2d start, end;
+  Eigen::Vector3d direction_world;
+};
+
+/// `per_direction` segments, 1-2.5 long at depths 4-10, along each of `directions_world`,
+/// wholly in view of `T_world_cam`, their endpoints with `sigma_px` noise. Segments shorter
+/// than 40 px in the image are drawn again.
+inline std::vector<SegmentAlong> segments_along(const Pose& T_world_cam,
+                                                const std::vector<Eigen::Vector3d>& directions_world,
+                                                int per_direction, double sigma_px, std::mt19937& rng) {
+  std::uniform_real_distribution<double> ux(-2.5, 2.5), uy(-1.5, 1.5), uz(4.0, 10.0), len(1.0, 2.5);
+  std::vector<SegmentAlong> out;
+  for (const auto& d : directions_world) {
+    int made = 0;
+    while (made < per_direction) {
+      const Eigen::Vector3d a = T_world_cam * Eigen::Vector3d(ux(rng), uy(rng), uz(rng));
+      const Eigen::Vector3d b = a + len(rng) * d.normalized();
+      Eigen::Vector2d xa, xb;
+      if (!in_view(T_world_cam, a) || !in_view(T_world_cam, b) || !observe(T_world_cam, a, xa) ||
+          !observe(T_world_cam, b, xb) || (xa - xb).norm() * kFocal < 40)
+        continue;
+      out.push_back({add_noise(xa, sigma_px, rng), add_noise(xb, sigma_px, rng), d.normalized()});
+      ++made;
+    }
+  }
+  return out;
+}
+
 }  // namespace pllvo::test

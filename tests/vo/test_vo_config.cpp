@@ -107,6 +107,33 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.plain_scene.max_keyframe_features, code.plain_scene.max_keyframe_features);
   EXPECT_EQ(file.plain_scene.max_tracked_points, code.plain_scene.max_tracked_points);
   EXPECT_DOUBLE_EQ(file.plain_scene.line_aperture_eigen_ratio, code.plain_scene.line_aperture_eigen_ratio);
+  const auto& fd = file.directions;
+  const auto& cd = code.directions;
+  EXPECT_EQ(fd.mono, cd.mono);
+  EXPECT_EQ(fd.stereo, cd.stereo);
+  EXPECT_DOUBLE_EQ(fd.weight, cd.weight);
+  EXPECT_DOUBLE_EQ(fd.ba_weight, cd.ba_weight);
+  EXPECT_DOUBLE_EQ(fd.min_length_px, cd.min_length_px);
+  EXPECT_DOUBLE_EQ(fd.gate_deg, cd.gate_deg);
+  EXPECT_DOUBLE_EQ(fd.inlier_px, cd.inlier_px);
+  EXPECT_EQ(fd.min_support, cd.min_support);
+  EXPECT_DOUBLE_EQ(fd.min_separation_deg, cd.min_separation_deg);
+  EXPECT_EQ(fd.orthogonal_only, cd.orthogonal_only);
+  EXPECT_EQ(fd.max_directions, cd.max_directions);
+}
+
+TEST(VoConfig, DirectionKeysAreReadAndChecked) {
+  const VoConfig c = VoConfig::load(write_yaml(
+      "dirs", "directions:\n  mono: true\n  weight: 3\n  ba_weight: 0\n  gate_deg: 6\n  orthogonal_only: false\n"));
+  EXPECT_TRUE(c.directions.mono);
+  EXPECT_DOUBLE_EQ(c.directions.weight, 3.0);
+  EXPECT_DOUBLE_EQ(c.directions.ba_weight, 0.0);
+  EXPECT_DOUBLE_EQ(c.directions.gate_deg, 6.0);
+  EXPECT_FALSE(c.directions.orthogonal_only);
+  for (const char* bad : {"weight: 0", "ba_weight: -1", "min_length_px: 0", "gate_deg: 50", "inlier_px: 0",
+                          "min_support: 2", "min_separation_deg: 90", "max_directions: 0", "gate_px: 2"}) {
+    expect_rejected("baddirs", std::string("directions:\n  ") + bad + "\n", "directions");
+  }
 }
 
 TEST(VoConfig, PlainSceneKeysAreReadAndChecked) {

@@ -3,6 +3,7 @@
 #include <ceres/product_manifold.h>
 
 #include "pllvo/geometry/reprojection.h"
+#include "pllvo/geometry/vanishing.h"
 
 namespace pllvo::backend {
 
@@ -142,6 +143,28 @@ ceres::CostFunction* new_line_cost(const Eigen::Vector3d& line, const Pose& T_ca
 ceres::CostFunction* new_distance_cost(const Eigen::Vector3d& reference, double distance) {
   return new ceres::AutoDiffCostFunction<DistanceGaugeFunctor, 1, kPoseBlockSize>(
       new DistanceGaugeFunctor{reference, distance});
+}
+
+namespace {
+struct VanishingFunctor {
+  Eigen::Vector3d direction_world;
+  Eigen::Vector2d start, end;
+  double scale;
+  template <typename T>
+  bool operator()(const T* pose, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(pose);
+    const Eigen::Matrix<T, 3, 1> v = q * direction_world.cast<T>();
+    if (!geometry::vanishing_residual<T>(v, start, end, residual[0])) return false;
+    residual[0] *= T(scale);
+    return true;
+  }
+};
+}  // namespace
+
+ceres::CostFunction* new_vanishing_cost(const Eigen::Vector3d& direction_world, const Eigen::Vector2d& start,
+                                        const Eigen::Vector2d& end, double scale) {
+  return new ceres::AutoDiffCostFunction<VanishingFunctor, 1, kPoseBlockSize>(
+      new VanishingFunctor{direction_world, start, end, scale});
 }
 
 }  // namespace pllvo::backend

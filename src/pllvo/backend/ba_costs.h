@@ -148,4 +148,9 @@ ceres::CostFunction* new_point_cost(const Eigen::Vector2d& xy, const Pose& T_cam
 ceres::CostFunction* new_line_cost(const Eigen::Vector3d& line, const Pose& T_cam_cam0, double scale, bool autodiff);
 ceres::CostFunction* new_distance_cost(const Eigen::Vector3d& reference, double distance);
 
+/// Vanishing-point error (geometry::vanishing_residual, times `scale`) of a segment seen
+/// parallel to `direction_world`, on the keyframe pose block alone.
+ceres::CostFunction* new_vanishing_cost(const Eigen::Vector3d& direction_world, const Eigen::Vector2d& start,
+                                        const Eigen::Vector2d& end, double scale);
+
 }  // namespace pllvo::backend

@@ -7,6 +7,7 @@
 
 #include "pllvo/common/error.h"
 #include "pllvo/geometry/reprojection.h"
+#include "pllvo/geometry/vanishing.h"
 
 namespace pllvo::backend {
 
@@ -108,6 +109,34 @@ class Linearization {
     return true;
   }
 
+  /// Vanishing-point error (pixels, weighted) of direction observation i; J (rotation
+  /// columns only: a direction does not see the translation) by central differences.
+  bool direction(const Pose& T_cam0_world, size_t i, double& r, Eigen::Matrix<double, 1, 6>* J) const {
+    const Eigen::Matrix3d& R = T_cam0_world.linear();
+    if (!direction_error(R, i, r)) return false;
+    if (J) {
+      constexpr double h = 1e-7;
+      J->setZero();
+      for (int k = 0; k < 3; ++k) {
+        Eigen::Vector3d d = Eigen::Vector3d::Zero();
+        d[k] = h;
+        double rp = 0, rm = 0;
+        if (!direction_error(geometry::so3_exp(d) * R, i, rp) || !direction_error(geometry::so3_exp(-d) * R, i, rm))
+          return false;
+        (*J)(0, 3 + k) = (rp - rm) / (2 * h);
+      }
+    }
+    return true;
+  }
+
+  bool direction_error(const Eigen::Matrix3d& R_cam0_world, size_t i, double& r) const {
+    const auto& o = problem_.directions[i];
+    const auto e = geometry::vanishing_residual(R_cam0_world * o.direction_world, o.start, o.end);
+    if (!e) return false;
+    r = problem_.direction_weight * problem_.focal_px * *e;
+    return true;
+  }
+
   /// Prior residual (6) and its Jacobian; false when there is no prior to apply.
   bool prior(const Pose& T_cam0_world, Vector6d& r, Matrix6d* J) const {
     if (!config_.use_motion_prior || !problem_.predicted_T_world_cam) return false;
@@ -138,6 +167,8 @@ class Linearization {
     double re = 0;
     for (size_t i = 0; i < problem_.epipolar.size(); ++i)
       if (epipolar(T, i, re, nullptr)) sum += config_.point_loss.rho(re * re);
+    for (size_t i = 0; i < problem_.directions.size(); ++i)
+      if (direction(T, i, re, nullptr)) sum += config_.line_loss.rho(re * re);
     Vector6d rp;
     if (prior(T, rp, nullptr)) sum += rp.squaredNorm();
     return sum;
@@ -167,6 +198,12 @@ class Linearization {
     for (size_t i = 0; i < problem_.epipolar.size(); ++i) {
       if (!epipolar(T, i, re, &Je)) continue;
       const double w = config_.point_loss.weight(re * re);
+      H.noalias() += w * Je.transpose() * Je;
+      g.noalias() += w * Je.transpose() * re;
+    }
+    for (size_t i = 0; i < problem_.directions.size(); ++i) {
+      if (!direction(T, i, re, &Je)) continue;
+      const double w = config_.line_loss.weight(re * re);
       H.noalias() += w * Je.transpose() * Je;
       g.noalias() += w * Je.transpose() * re;
     }

@@ -2,7 +2,8 @@
 // Robust refinement of one camera pose against a fixed map: point reprojection errors plus
 // line errors (distances of the projected 3-D segment endpoints to the observed 2-D lines),
 // Huber or Cauchy loss, optional motion prior, optional epipolar errors of tracks without a
-// map point (robust like the points, never classified as outliers). Solved by Levenberg-Marquardt with
+// map point (robust like the points, never classified as outliers), optional vanishing-point
+// errors of segments parallel to known directions (robust like the lines, never classified). Solved by Levenberg-Marquardt with
 // iteratively reweighted normal equations on the 6-DoF pose (hand-written: a per-frame solve
 // of ~10 small iterations, where building a Ceres problem would cost more than solving).
 // Several rounds re-classify outliers and leave them out of the next round (ORB-SLAM style).
@@ -66,6 +67,13 @@ struct PoseEpipolarObservation {
   double weight = 1.0;  ///< times the problem's epipolar_weight
 };
 
+/// A segment (camera 0) parallel to a known 3-D direction: its distance from pointing at the
+/// direction's vanishing point constrains the rotation alone (geometry::vanishing_residual).
+struct PoseDirectionObservation {
+  Eigen::Vector3d direction_world;
+  Eigen::Vector2d start, end;  ///< normalised image coordinates
+};
+
 struct PoseRefinementProblem {
   Pose T_world_cam = Pose::Identity();  ///< initial guess (camera 0)
   std::vector<PosePointObservation> points;
@@ -75,6 +83,9 @@ struct PoseRefinementProblem {
   std::vector<Pose> T_cam_cam0;                ///< rig extrinsics by camera index; empty: mono
   std::vector<PoseEpipolarObservation> epipolar;  ///< mono: tracks without a map point
   double epipolar_weight = 0;                     ///< multiplies their residuals (pixels); 0: unused
+  /// Segments parallel to known directions; robust with the line loss, never classified.
+  std::vector<PoseDirectionObservation> directions;
+  double direction_weight = 0;  ///< multiplies their residuals (pixels); 0: unused
 };
 
 struct PoseRefinementResult {

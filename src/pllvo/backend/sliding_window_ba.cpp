@@ -38,6 +38,7 @@ void validate(const BaProblem& p) {
     check_index(o.line, p.lines.size(), "line");
     check_index(o.camera, cameras, "camera");
   }
+  for (const auto& o : p.direction_observations) check_index(o.keyframe, p.keyframes.size(), "keyframe");
 }
 
 /// Parameter blocks of a BaProblem and the residual norms (pixels) of its observations.
@@ -199,6 +200,13 @@ BaSummary SlidingWindowBA::optimize(BaProblem& P) const {
     line_ids[j] = problem.AddResidualBlock(
         new_line_cost(o.line_coeffs, state.extrinsic(o.camera), P.focal_px * config_.line_weight, autodiff),
         line_loss, state.pose(o.keyframe), state.line(o.line));
+  }
+  if (P.direction_weight > 0 && !P.direction_observations.empty()) {
+    ceres::LossFunction* direction_loss = config_.line_loss.make_ceres();
+    for (const auto& o : P.direction_observations)
+      problem.AddResidualBlock(
+          new_vanishing_cost(o.direction_world, o.start, o.end, P.focal_px * P.direction_weight), direction_loss,
+          state.pose(o.keyframe));
   }
   // Unused losses (no residual took them) are not owned by the problem.
   std::unique_ptr<ceres::LossFunction> point_loss_guard, line_loss_guard;

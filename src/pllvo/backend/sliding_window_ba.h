@@ -83,6 +83,14 @@ struct BaLineObservation {
   Eigen::Vector3d line_coeffs = Eigen::Vector3d::Zero();  ///< normalised 2-D line, a^2 + b^2 = 1
 };
 
+/// A segment seen by a keyframe (camera 0) parallel to a known world direction: its
+/// vanishing-point error (geometry::vanishing_residual) holds the keyframe's rotation.
+struct BaDirectionObservation {
+  int keyframe = 0;
+  Eigen::Vector3d direction_world = Eigen::Vector3d::UnitZ();
+  Eigen::Vector2d start = Eigen::Vector2d::Zero(), end = Eigen::Vector2d::Zero();  ///< normalised
+};
+
 /// Everything one bundle adjustment sees; optimize() writes the free values back in place.
 struct BaProblem {
   std::vector<BaKeyframe> keyframes;  ///< oldest first
@@ -90,6 +98,9 @@ struct BaProblem {
   std::vector<BaLine> lines;
   std::vector<BaPointObservation> point_observations;
   std::vector<BaLineObservation> line_observations;
+  /// With the line loss, never classified as outliers; weighted by direction_weight (pixels).
+  std::vector<BaDirectionObservation> direction_observations;
+  double direction_weight = 0;  ///< 0: the directions are not used
   std::vector<Pose> T_cam_cam0;  ///< rig extrinsics by camera index; empty: mono
   double focal_px = 1.0;         ///< pixels per normalised unit (geometry::pixel_scale)
 };

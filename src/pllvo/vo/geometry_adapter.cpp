@@ -82,6 +82,8 @@ PoseEstimate estimate_pose(const Pinhole& cam, const std::vector<Eigen::Vector3d
   }
   for (const auto& l : lines) problem.lines.push_back({l.start_world, l.end_world, observed_line(cam, l.observed), 0});
   if (extras.epipolar_weight > 0) problem.epipolar = extras.epipolar, problem.epipolar_weight = extras.epipolar_weight;
+  if (extras.direction_weight > 0)
+    problem.directions = extras.directions, problem.direction_weight = extras.direction_weight;
   const auto refined = backend::PoseRefiner(backend.pose_refiner).refine(problem);
   if (!refined.ok) return est;
   est.ok = true;
@@ -221,8 +223,8 @@ std::optional<Eigen::Vector3d> triangulate_stereo(const Pinhole& cam, double bas
 }
 
 WindowBaResult bundle_adjust_window(Map& map, const Pinhole& cam, double baseline, const std::vector<Id>& window,
-                                    int max_anchors,
-                                    const backend::BundleAdjustmentConfig& config) {
+                                    int max_anchors, const backend::BundleAdjustmentConfig& config,
+                                    double direction_weight) {
   WindowBaResult result;
   if (window.size() < 2) return result;
   backend::BaProblem problem;
@@ -295,7 +297,11 @@ WindowBaResult bundle_adjust_window(Map& map, const Pinhole& cam, double baselin
         problem.line_observations.push_back({kf_index[k], it->second, 0, observed_line(cam, kf.lines[i])});
         line_refs.push_back({k, static_cast<int>(i)});
       }
+      if (direction_weight > 0)
+        for (const auto& d : kf.directions)
+          problem.direction_observations.push_back({kf_index[k], d.direction_world, d.start, d.end});
     }
+    problem.direction_weight = direction_weight;
   });
 
   const auto summary = backend::SlidingWindowBA(config).optimize(problem);

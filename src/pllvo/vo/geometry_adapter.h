@@ -49,6 +49,8 @@ struct PoseExtras {
   std::vector<double> point_weights;  ///< empty, or one per point: scale its residual
   std::vector<backend::PoseEpipolarObservation> epipolar;  ///< tracks without a map point
   double epipolar_weight = 0;                              ///< 0: the tracks are not used
+  std::vector<backend::PoseDirectionObservation> directions;  ///< segments parallel to known directions
+  double direction_weight = 0;                               ///< 0: the directions are not used
 };
 
 /// Pose of a frame: PnP + RANSAC on the points, then the robust refinement with points,
@@ -155,9 +157,10 @@ struct WindowBaResult {
 /// map under its lock, solves without it (only the worker writes the map, so nothing changes
 /// meanwhile), then writes poses, points and lines back and unlinks outlier observations.
 /// `baseline` > 0: keyframes' right-image points join as observations of the rectified
-/// right camera (metric scale in the window).
+/// right camera (metric scale in the window). `direction_weight` > 0: the keyframes' segments
+/// parallel to known directions hold their rotations.
 WindowBaResult bundle_adjust_window(Map& map, const Pinhole& cam, double baseline, const std::vector<Id>& window,
-                                    int max_anchors,
-                                    const backend::BundleAdjustmentConfig& config);
+                                    int max_anchors, const backend::BundleAdjustmentConfig& config,
+                                    double direction_weight = 0);
 
 }  // namespace pllvo::vo

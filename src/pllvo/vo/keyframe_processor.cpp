@@ -501,6 +501,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
     for (const auto& l : line_plan.segments) kf.lines.push_back(to_segment2d(l));
     kf.line_origins = line_plan.origins;
     kf.line_descriptors = line_plan.descriptors;
+    kf.directions = job.directions;
     kf.frame_index = job.frame_index;
     kf.timestamp = job.timestamp;
     kf.T_world_cam = job.T_world_cam;
@@ -553,7 +554,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
     const std::vector<Id> ids_window(segment_keyframes_.end() - std::min(window, segment_keyframes_.size()),
                                      segment_keyframes_.end());
     const auto ba = bundle_adjust_window(map_, camera_, baseline_, ids_window, config_.mapping.max_anchor_keyframes,
-                                         window_ba_config(job.image_noise));
+                                         window_ba_config(job.image_noise), config_.directions.ba_weight);
     if (ba.ran) {
       stats_.add_sample("ba_rms_px", ba.final_rms_px);
       stats_.add_count("ba_point_outliers", ba.point_outliers);

@@ -40,6 +40,8 @@ struct KeyframeJob {
   double image_noise = 0;            ///< the frame's pixel noise, grey levels (estimate_noise_sigma)
   std::vector<TrackedPoint> tracks;  ///< KLT tracks in this frame (map points and candidates)
   std::vector<TrackedLine> lines;    ///< lines tracked into this frame
+  /// Segments parallel to known directions, at the frame's pose (directions.*); empty: none.
+  std::vector<backend::PoseDirectionObservation> directions;
   bool first = false;                ///< first keyframe of a map segment (stereo initialisation)
 };
 

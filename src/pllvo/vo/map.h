@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 
+#include "pllvo/backend/pose_refiner.h"
 #include "pllvo/geometry/pose.h"
 #include "pllvo/vo/keyframe_policy.h"
 #include "pllvo/vo/point_frontend.h"
@@ -48,6 +49,8 @@ struct Keyframe {
   std::vector<Id> line_ids;        ///< per line: its map line, or kNoId
   std::vector<Observation> line_origins;  ///< per line without a map line: its first keyframe observation
   cv::Mat line_descriptors;        ///< LBD, one row per line (empty when not computed)
+  /// Segments parallel to known directions (directions.*), for the bundle adjustment.
+  std::vector<backend::PoseDirectionObservation> directions;
 };
 
 /// Where a keyframe saw a feature: the keyframe's pose and the feature's pixel.

@@ -102,6 +102,8 @@ Odometry::Odometry(const VoConfig& config, const io::Calibration& calibration, b
       line_tracker_(config_.lines.tracker),
       plain_line_tracker_(plain_scene_tracker(config_)),
       line_detector_(config_.lines.detector),
+      use_directions_(use_lines_ && (rectifier_.stereo() ? config_.directions.stereo : config_.directions.mono)),
+      directions_(config_.directions),
       policy_(config_.keyframes),
       processor_(config_, camera_, rectifier_.baseline(), map_, stats),
       worker_(config.run.threaded, config.run.keyframe_stages) {
@@ -246,6 +248,7 @@ KeyframeJob Odometry::make_keyframe_job(const io::Frame& frame, const cv::Mat& l
   job.T_world_cam = T_world_work_;
   job.reason = reason;
   job.image_noise = frame_noise_;
+  job.directions = frame_directions_;
   return job;
 }
 
@@ -596,6 +599,20 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
                                  camera_.normalised(to_eigen(tr.points[i])),
                                  epipolar_track_weight(first_view[i]->T_world_cam, T_world_pred, depth, full_weight_deg)});
 
+  std::vector<DirectionSegment> dir_segments;
+  if (use_directions_) {
+    ScopedTimer t(stats_, "direction_lines");
+    dir_segments = direction_segments(pyramid.image);
+    const std::vector<int> dir = directions_.associate(dir_segments, T_pred_world.linear(), camera_.focal());
+    for (size_t i = 0; i < dir.size(); ++i)
+      if (dir[i] >= 0)
+        extras.directions.push_back({directions_.directions()[dir[i]], dir_segments[i].start, dir_segments[i].end});
+    extras.direction_weight = config_.directions.weight;
+    stats_.add_count("direction_observations", static_cast<long long>(extras.directions.size()));
+    spdlog::debug("frame {}: {} of {} tracked lines on {} known directions", frame.index, extras.directions.size(),
+                  dir_segments.size(), directions_.directions().size());
+  }
+
   PoseEstimate estimate;
   {
     ScopedTimer t(stats_, "pose");
@@ -652,6 +669,22 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     return false;
   }
   const geometry::Pose T_world_cur = estimate.T_world_cam;
+  frame_directions_.clear();
+  if (use_directions_) {
+    // The segments at the estimated pose: a keyframe of this frame takes them to the window.
+    const Eigen::Matrix3d R_cam_world = T_world_cur.linear().transpose();
+    const std::vector<int> dir = directions_.associate(dir_segments, R_cam_world, camera_.focal());
+    for (size_t i = 0; i < dir.size(); ++i)
+      if (dir[i] >= 0)
+        frame_directions_.push_back({directions_.directions()[dir[i]], dir_segments[i].start, dir_segments[i].end});
+    const int added = directions_.discover(dir_segments, R_cam_world, camera_.focal());
+    if (added > 0) {
+      stats_.add_count("directions_added", added);
+      const Eigen::Vector3d& d = directions_.directions().back();
+      spdlog::debug("frame {}: {} new directions ({} known), last {:.4f} {:.4f} {:.4f}", frame.index, added,
+                    directions_.directions().size(), d.x(), d.y(), d.z());
+    }
+  }
   velocity_ = T_world_work_.inverse() * T_world_cur;
   // After lost frames the step spans several frames: do not extrapolate it.
   has_velocity_ = lost_frames_ == 0;
@@ -1036,6 +1069,15 @@ std::vector<TrackedLine> Odometry::track_lines(const ImagePyramid& from, const I
   return kept;
 }
 
+std::vector<DirectionSegment> Odometry::direction_segments(const cv::Mat& image) {
+  // Detected afresh in every frame: line flow loses most lines in noisy dim images (its
+  // samples fail the fit), where the rotation needs them most.
+  std::vector<DirectionSegment> out;
+  for (const auto& l : line_detector_.detect(image))
+    out.push_back({camera_.normalised(l.start), camera_.normalised(l.end), l.length()});
+  return out;
+}
+
 bool Odometry::plain_frame() const {
   const int below = config_.plain_scene.max_tracked_points;
   return below > 0 && count_mapped(tracks_) < below;
@@ -1099,6 +1141,7 @@ void Odometry::reset() {
   pyramid_buffer_.clear();
   tracks_.clear();
   line_tracks_.clear();
+  frame_directions_.clear();
   reference_angles_ = {};
   mono_.reset();
   state_ = TrackingState::kUninitialized;

@@ -13,6 +13,7 @@
 #include "pllvo/features/lines/line_tracker.h"
 #include "pllvo/features/lines/overlap_angles.h"
 #include "pllvo/io/sequence.h"
+#include "pllvo/vo/direction_map.h"
 #include "pllvo/vo/frame_rectifier.h"
 #include "pllvo/vo/keyframe_policy.h"
 #include "pllvo/vo/keyframe_processor.h"
@@ -162,6 +163,9 @@ class Odometry {
   void retrack_on_local_contrast(const cv::Mat& left, const std::vector<cv::Point2f>& from,
                                  const std::vector<cv::Point2f>& predicted, TrackResult& tr);
 
+  /// The lines detected in the frame as direction segments (normalised, working camera).
+  std::vector<DirectionSegment> direction_segments(const cv::Mat& image);
+
   VoConfig config_;
   RunStats& stats_;
   FrameRectifier rectifier_;
@@ -171,7 +175,11 @@ class Odometry {
   bool redetect_lines_;  ///< pipeline.line_tracking: redetect
   lines::LineTracker line_tracker_;
   lines::LineTracker plain_line_tracker_;  ///< the same with aperture handling (plain_scene)
-  lines::LineDetector line_detector_;  ///< tracking thread, redetect mode only
+  lines::LineDetector line_detector_;  ///< tracking thread: redetect mode, directions
+  bool use_directions_;                ///< directions.mono / directions.stereo (needs lines)
+  DirectionMap directions_;            ///< world directions of the tracked lines (tracking thread)
+  /// The last tracked frame's segments on known directions, at its pose (for its keyframe).
+  std::vector<backend::PoseDirectionObservation> frame_directions_;
   KeyframePolicy policy_;
   Map map_;
   KeyframeProcessor processor_;

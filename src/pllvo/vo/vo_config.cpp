@@ -155,6 +155,21 @@ void read_plain_scene(const ConfigNode& n, PlainSceneConfig& c) {
   n.reject_unknown_keys();
 }
 
+void read_directions(const ConfigNode& n, DirectionConfig& c) {
+  n.get("mono", c.mono);
+  n.get("stereo", c.stereo);
+  n.get("weight", c.weight);
+  n.get("ba_weight", c.ba_weight);
+  n.get("min_length_px", c.min_length_px);
+  n.get("gate_deg", c.gate_deg);
+  n.get("inlier_px", c.inlier_px);
+  n.get("min_support", c.min_support);
+  n.get("min_separation_deg", c.min_separation_deg);
+  n.get("orthogonal_only", c.orthogonal_only);
+  n.get("max_directions", c.max_directions);
+  n.reject_unknown_keys();
+}
+
 void read_run(const ConfigNode& n, RunConfig& c) {
   n.get("threaded", c.threaded);
   n.get("wait_when_starving", c.wait_when_starving);
@@ -210,6 +225,7 @@ void VoConfig::read(const ConfigNode& node) {
   read_mapping(node.child("mapping"), mapping);
   read_pipeline(node.child("pipeline"), pipeline);
   read_plain_scene(node.child("plain_scene"), plain_scene);
+  read_directions(node.child("directions"), directions);
   read_run(node.child("run"), run);
   geometry.load(node.child("geometry"));
   backend.load(node.child("backend"));
@@ -297,6 +313,16 @@ void VoConfig::validate(const std::filesystem::path& file) const {
           "mapping.matcher", "must be auto, lightglue or mnn");
   require(pipeline.line_tracking == "flow" || pipeline.line_tracking == "redetect", file,
           "pipeline.line_tracking", "must be flow or redetect (got '" + pipeline.line_tracking + "')");
+  const auto& d = directions;
+  require(d.weight > 0, file, "directions.weight", "must be positive");
+  require(d.ba_weight >= 0, file, "directions.ba_weight", "must be >= 0 (0: off)");
+  require(d.min_length_px > 0, file, "directions.min_length_px", "must be positive");
+  require(d.gate_deg > 0 && d.gate_deg < 45, file, "directions.gate_deg", "must be in (0, 45)");
+  require(d.inlier_px > 0, file, "directions.inlier_px", "must be positive");
+  require(d.min_support >= 3, file, "directions.min_support", "must be >= 3 (two segments always meet)");
+  require(d.min_separation_deg > 0 && d.min_separation_deg < 90, file, "directions.min_separation_deg",
+          "must be in (0, 90)");
+  require(d.max_directions > 0, file, "directions.max_directions", "must be positive");
   require(plain_scene.max_keyframe_features >= 0, file, "plain_scene.max_keyframe_features", "must be >= 0 (0: off)");
   require(plain_scene.max_tracked_points >= 0, file, "plain_scene.max_tracked_points", "must be >= 0 (0: off)");
   require(plain_scene.line_aperture_eigen_ratio > 0 && plain_scene.line_aperture_eigen_ratio < 1, file,

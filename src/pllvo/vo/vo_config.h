@@ -393,6 +393,35 @@ struct PlainSceneConfig {
   double line_aperture_eigen_ratio = 0.05;
 };
 
+/// Known 3-D directions (vo::DirectionMap): lines that share a vanishing point in one frame
+/// become a world direction; later frames' lines parallel to it constrain the camera's
+/// rotation, which the map's points alone cannot hold on a few far points on one plane
+/// (monocular heading drift, docs/vo.md sessions 31-33).
+struct DirectionConfig {
+  bool mono = false;    ///< use them in monocular runs
+  bool stereo = false;  ///< ...and in stereo runs
+  /// Multiplies their residuals (pixels: distance of a segment's end from pointing at the
+  /// vanishing point) in the pose refinement, with the line loss.
+  double weight = 10.0;
+  /// The same in the sliding-window bundle adjustment, for the keyframes' segments (0: not
+  /// there): without it the window turns the map back to the points' rotation.
+  double ba_weight = 10.0;
+  double min_length_px = 40;  ///< shorter segments give the angle too loosely
+  /// A segment belongs to a direction when, at the predicted rotation, it points within
+  /// gate_deg of the direction's vanishing point and within it of no other's. An angle, not
+  /// pixels: a pixel gate holds the long segments, which fix the rotation best, tightest, and
+  /// lets go of them first when the rotation strays.
+  double gate_deg = 4.0;
+  double inlier_px = 1.0;            ///< support of a new direction's vanishing point
+  int min_support = 5;               ///< segments a new direction needs in its frame
+  double min_separation_deg = 5.0;   ///< between a new direction and the known ones
+  /// Manhattan world: a new direction is perpendicular to the known ones (three at most).
+  /// Without it, parallel horizontals near the horizon fit a vanishing point anywhere along
+  /// it, and such a direction turned the heading by 30 deg (difficult_lowlight, docs/vo.md).
+  bool orthogonal_only = true;
+  int max_directions = 12;  ///< without orthogonal_only
+};
+
 /// Everything else: threads, progress, output.
 struct RunConfig {
   bool threaded = true;        ///< keyframe worker thread; false: deterministic single thread
@@ -448,6 +477,7 @@ struct VoConfig {
   MappingConfig mapping;
   PipelineConfig pipeline;
   PlainSceneConfig plain_scene;
+  DirectionConfig directions;
   RunConfig run;
   geometry::GeometryConfig geometry;  ///< section `geometry:` (keys of config/geometry.yaml)
   backend::BackendConfig backend;     ///< section `backend:` (keys of config/backend.yaml)
