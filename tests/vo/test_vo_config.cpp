@@ -118,6 +118,8 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_DOUBLE_EQ(fd.inlier_px, cd.inlier_px);
   EXPECT_EQ(fd.min_support, cd.min_support);
   EXPECT_DOUBLE_EQ(fd.min_separation_deg, cd.min_separation_deg);
+  EXPECT_EQ(fd.confirm_frames, cd.confirm_frames);
+  EXPECT_EQ(fd.min_known, cd.min_known);
   EXPECT_EQ(fd.orthogonal_only, cd.orthogonal_only);
   EXPECT_EQ(fd.max_directions, cd.max_directions);
 }
@@ -131,7 +133,7 @@ TEST(VoConfig, DirectionKeysAreReadAndChecked) {
   EXPECT_DOUBLE_EQ(c.directions.gate_deg, 6.0);
   EXPECT_FALSE(c.directions.orthogonal_only);
   for (const char* bad : {"weight: 0", "ba_weight: -1", "min_length_px: 0", "gate_deg: 50", "inlier_px: 0",
-                          "min_support: 2", "min_separation_deg: 90", "max_directions: 0", "gate_px: 2"}) {
+                          "min_support: 2", "min_separation_deg: 90", "confirm_frames: 0", "min_known: 0", "max_directions: 0", "gate_px: 2"}) {
     expect_rejected("baddirs", std::string("directions:\n  ") + bad + "\n", "directions");
   }
 }

@@ -19,6 +19,9 @@ constexpr size_t kMaxCandidates = 40;
 // Segments whose interpretation planes are closer than this are one edge seen twice (a
 // broken detection): they count once, and a pair of them does not fix a vanishing point.
 constexpr double kSameEdgeDeg = 1.0;
+// Manhattan world: proposals made before any direction was known must be this close to
+// perpendicular to the ones confirmed meanwhile.
+constexpr double kOrthogonalToleranceDeg = 3.0;
 
 double residual_px(const Eigen::Vector3d& v_cam, const DirectionSegment& s, double focal) {
   const auto r = geometry::vanishing_residual(v_cam, s.start, s.end);
@@ -91,6 +94,7 @@ int DirectionMap::discover(const std::vector<DirectionSegment>& segments, const 
   std::vector<size_t> candidates;
   for (size_t i = 0; i < segments.size(); ++i)
     if (known[i] < 0 && segments[i].length_px >= config_.min_length_px) candidates.push_back(i);
+  const int added = confirm_pending(segments, candidates, R_cam_world, focal);
   std::stable_sort(candidates.begin(), candidates.end(),
                    [&](size_t a, size_t b) { return segments[a].length_px > segments[b].length_px; });
   if (candidates.size() > kMaxCandidates) candidates.resize(kMaxCandidates);
@@ -98,9 +102,7 @@ int DirectionMap::discover(const std::vector<DirectionSegment>& segments, const 
   for (size_t i : candidates) normals[i] = geometry::interpretation_plane_normal(segments[i].start, segments[i].end);
 
   const double min_sin_pair = std::sin(kSameEdgeDeg * M_PI / 180.0);
-  const double max_cos_known = std::cos(config_.min_separation_deg * M_PI / 180.0);
-  int added = 0;
-  while (static_cast<int>(directions_.size()) < max_directions() &&
+  while (static_cast<int>(directions_.size() + pending_.size()) < max_directions() &&
          static_cast<int>(candidates.size()) >= config_.min_support) {
     // Hypotheses (camera frame): in a Manhattan world a new direction is perpendicular to the
     // known ones, so one segment fixes it beside one known direction and none beside two;
@@ -134,17 +136,63 @@ int DirectionMap::discover(const std::vector<DirectionSegment>& segments, const 
       if (distinct < config_.min_support) break;
     }
     const Eigen::Vector3d d = (R_cam_world.transpose() * v).normalized();
-    bool separate = true;
-    for (const auto& e : directions_) separate = separate && std::abs(e.dot(d)) < max_cos_known;
-    if (separate) {
-      directions_.push_back(d);
-      ++added;
-    }
+    if (separate(d)) pending_.push_back({d, 1, 0});
     std::vector<char> used(segments.size(), 0);
     for (size_t i : inliers) used[i] = 1;
     candidates.erase(std::remove_if(candidates.begin(), candidates.end(), [&](size_t i) { return used[i]; }),
                      candidates.end());
   }
+  std::vector<size_t> none;
+  return added + confirm_pending({}, none, R_cam_world, focal);
+}
+
+bool DirectionMap::orthogonal_to_known(const Eigen::Vector3d& d) const {
+  if (!config_.orthogonal_only) return true;
+  const double max_cos = std::sin(kOrthogonalToleranceDeg * M_PI / 180.0);
+  for (const auto& e : directions_)
+    if (std::abs(e.dot(d)) > max_cos) return false;
+  return true;
+}
+
+bool DirectionMap::separate(const Eigen::Vector3d& d) const {
+  const double max_cos = std::cos(config_.min_separation_deg * M_PI / 180.0);
+  for (const auto& e : directions_)
+    if (std::abs(e.dot(d)) >= max_cos) return false;
+  for (const auto& c : pending_)
+    if (std::abs(c.direction.dot(d)) >= max_cos) return false;
+  return true;
+}
+
+int DirectionMap::confirm_pending(const std::vector<DirectionSegment>& segments, std::vector<size_t>& candidates,
+                                  const Eigen::Matrix3d& R_cam_world, double focal) {
+  int added = 0;
+  std::vector<Pending> kept;
+  for (auto c : pending_) {
+    // Seen again: min_support segments (not on a known direction) point at it. The frame
+    // that proposed it (age 0) counts once, in the proposal.
+    if (!segments.empty()) {
+      const Eigen::Vector3d v = R_cam_world * c.direction;
+      std::vector<size_t> on;
+      for (size_t i : candidates)
+        if (angle_deg(v, segments[i], focal) < config_.gate_deg) on.push_back(i);
+      ++c.age;
+      if (static_cast<int>(on.size()) >= config_.min_support) {
+        ++c.seen;
+        candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
+                                        [&](size_t i) { return std::find(on.begin(), on.end(), i) != on.end(); }),
+                         candidates.end());
+      }
+    }
+    if (c.seen >= config_.confirm_frames) {
+      if (orthogonal_to_known(c.direction)) {
+        directions_.push_back(c.direction);
+        ++added;
+      }
+    } else if (c.age < config_.confirm_frames + 2) {
+      kept.push_back(c);
+    }
+  }
+  pending_ = std::move(kept);
   return added;
 }
 

@@ -22,7 +22,6 @@ class DirectionMap {
   explicit DirectionMap(DirectionConfig config = {}) : config_(config) {}
 
   const std::vector<Eigen::Vector3d>& directions() const { return directions_; }
-  void clear() { directions_.clear(); }
 
   /// The direction of each segment (index in directions(), -1: none) for a camera with
   /// rotation R_cam_world: residual below gate_px for one direction only. `focal`: pixels
@@ -30,17 +29,32 @@ class DirectionMap {
   std::vector<int> associate(const std::vector<DirectionSegment>& segments, const Eigen::Matrix3d& R_cam_world,
                              double focal) const;
 
-  /// Adds the directions that segments without one share (vanishing points supported by
-  /// min_support distinct segments, min_separation_deg from the known directions; with
-  /// orthogonal_only, perpendicular to them), placed in the world by R_cam_world. Returns how
-  /// many were added.
+  /// Proposes the directions that segments without one share (vanishing points supported by
+  /// min_support distinct segments, min_separation_deg from the known and proposed directions;
+  /// with orthogonal_only, perpendicular to the known ones), placed in the world by
+  /// R_cam_world; a proposal becomes known once seen in confirm_frames frames (the proposing
+  /// one included) within confirm_frames + 2 calls. Returns how many became known.
   int discover(const std::vector<DirectionSegment>& segments, const Eigen::Matrix3d& R_cam_world, double focal);
 
  private:
+  struct Pending {
+    Eigen::Vector3d direction;
+    int seen = 1;  ///< frames with min_support segments on it, the proposing one included
+    int age = 0;   ///< calls since the proposal
+  };
+
   int max_directions() const;
+  bool separate(const Eigen::Vector3d& d) const;
+  bool orthogonal_to_known(const Eigen::Vector3d& d) const;
+  /// Counts the frame for each proposal (segments: `candidates`, those on a proposal are
+  /// removed from it), makes the confirmed ones known and drops the stale ones. Returns how
+  /// many became known.
+  int confirm_pending(const std::vector<DirectionSegment>& segments, std::vector<size_t>& candidates,
+                      const Eigen::Matrix3d& R_cam_world, double focal);
 
   DirectionConfig config_;
   std::vector<Eigen::Vector3d> directions_;  ///< unit, world frame; d and -d are one direction
+  std::vector<Pending> pending_;
 };
 
 }  // namespace pllvo::vo

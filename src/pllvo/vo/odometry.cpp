@@ -603,10 +603,7 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   if (use_directions_) {
     ScopedTimer t(stats_, "direction_lines");
     dir_segments = direction_segments(pyramid.image);
-    const std::vector<int> dir = directions_.associate(dir_segments, T_pred_world.linear(), camera_.focal());
-    for (size_t i = 0; i < dir.size(); ++i)
-      if (dir[i] >= 0)
-        extras.directions.push_back({directions_.directions()[dir[i]], dir_segments[i].start, dir_segments[i].end});
+    extras.directions = direction_observations(dir_segments, T_pred_world.linear());
     extras.direction_weight = config_.directions.weight;
     stats_.add_count("direction_observations", static_cast<long long>(extras.directions.size()));
     spdlog::debug("frame {}: {} of {} tracked lines on {} known directions", frame.index, extras.directions.size(),
@@ -673,10 +670,7 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   if (use_directions_) {
     // The segments at the estimated pose: a keyframe of this frame takes them to the window.
     const Eigen::Matrix3d R_cam_world = T_world_cur.linear().transpose();
-    const std::vector<int> dir = directions_.associate(dir_segments, R_cam_world, camera_.focal());
-    for (size_t i = 0; i < dir.size(); ++i)
-      if (dir[i] >= 0)
-        frame_directions_.push_back({directions_.directions()[dir[i]], dir_segments[i].start, dir_segments[i].end});
+    frame_directions_ = direction_observations(dir_segments, R_cam_world);
     const int added = directions_.discover(dir_segments, R_cam_world, camera_.focal());
     if (added > 0) {
       stats_.add_count("directions_added", added);
@@ -1075,6 +1069,17 @@ std::vector<DirectionSegment> Odometry::direction_segments(const cv::Mat& image)
   std::vector<DirectionSegment> out;
   for (const auto& l : line_detector_.detect(image))
     out.push_back({camera_.normalised(l.start), camera_.normalised(l.end), l.length()});
+  return out;
+}
+
+std::vector<backend::PoseDirectionObservation> Odometry::direction_observations(
+    const std::vector<DirectionSegment>& segments, const Eigen::Matrix3d& R_cam_world) const {
+  std::vector<backend::PoseDirectionObservation> out;
+  const auto& known = directions_.directions();
+  if (static_cast<int>(known.size()) < config_.directions.min_known) return out;
+  const std::vector<int> dir = directions_.associate(segments, R_cam_world, camera_.focal());
+  for (size_t i = 0; i < dir.size(); ++i)
+    if (dir[i] >= 0) out.push_back({known[dir[i]], segments[i].start, segments[i].end});
   return out;
 }
 

@@ -165,6 +165,10 @@ class Odometry {
 
   /// The lines detected in the frame as direction segments (normalised, working camera).
   std::vector<DirectionSegment> direction_segments(const cv::Mat& image);
+  /// The segments on known directions at rotation R_cam_world (none while fewer than
+  /// directions.min_known are known).
+  std::vector<backend::PoseDirectionObservation> direction_observations(const std::vector<DirectionSegment>& segments,
+                                                                        const Eigen::Matrix3d& R_cam_world) const;
 
   VoConfig config_;
   RunStats& stats_;

@@ -165,6 +165,8 @@ void read_directions(const ConfigNode& n, DirectionConfig& c) {
   n.get("inlier_px", c.inlier_px);
   n.get("min_support", c.min_support);
   n.get("min_separation_deg", c.min_separation_deg);
+  n.get("confirm_frames", c.confirm_frames);
+  n.get("min_known", c.min_known);
   n.get("orthogonal_only", c.orthogonal_only);
   n.get("max_directions", c.max_directions);
   n.reject_unknown_keys();
@@ -322,6 +324,8 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(d.min_support >= 3, file, "directions.min_support", "must be >= 3 (two segments always meet)");
   require(d.min_separation_deg > 0 && d.min_separation_deg < 90, file, "directions.min_separation_deg",
           "must be in (0, 90)");
+  require(d.min_known >= 1, file, "directions.min_known", "must be at least 1");
+  require(d.confirm_frames >= 1, file, "directions.confirm_frames", "must be at least 1");
   require(d.max_directions > 0, file, "directions.max_directions", "must be positive");
   require(plain_scene.max_keyframe_features >= 0, file, "plain_scene.max_keyframe_features", "must be >= 0 (0: off)");
   require(plain_scene.max_tracked_points >= 0, file, "plain_scene.max_tracked_points", "must be >= 0 (0: off)");

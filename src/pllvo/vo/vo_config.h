@@ -398,7 +398,7 @@ struct PlainSceneConfig {
 /// rotation, which the map's points alone cannot hold on a few far points on one plane
 /// (monocular heading drift, docs/vo.md sessions 31-33).
 struct DirectionConfig {
-  bool mono = false;    ///< use them in monocular runs
+  bool mono = true;     ///< use them in monocular runs
   bool stereo = false;  ///< ...and in stereo runs
   /// Multiplies their residuals (pixels: distance of a segment's end from pointing at the
   /// vanishing point) in the pose refinement, with the line loss.
@@ -415,6 +415,14 @@ struct DirectionConfig {
   double inlier_px = 1.0;            ///< support of a new direction's vanishing point
   int min_support = 5;               ///< segments a new direction needs in its frame
   double min_separation_deg = 5.0;   ///< between a new direction and the known ones
+  /// A proposed direction is used once seen (min_support segments) in this many frames within
+  /// confirm_frames + 2: a vanishing point that clutter fakes in one frame (a real 240x180
+  /// camera, ecd_slider_hdr_close_149) does not come back.
+  int confirm_frames = 3;
+  /// Directions known before any is used: one alone may be clutter that a static scene shows
+  /// again in every frame (ecd_slider_hdr_close_149: a "vertical" of 4-7 segments turned the
+  /// pose 20 deg); a perpendicular pair is a room.
+  int min_known = 2;
   /// Manhattan world: a new direction is perpendicular to the known ones (three at most).
   /// Without it, parallel horizontals near the horizon fit a vanishing point anywhere along
   /// it, and such a direction turned the heading by 30 deg (difficult_lowlight, docs/vo.md).
