@@ -22,6 +22,14 @@ double angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) * 180.0 / M_PI;
 }
 
+/// discover() on the same segments in `frames` frames; the number of directions made known.
+int discover_over(DirectionMap& map, const std::vector<DirectionSegment>& segments, const Eigen::Matrix3d& R_cw,
+                  int frames = 3) {
+  int added = 0;
+  for (int k = 0; k < frames; ++k) added += map.discover(segments, R_cw, kFocal);
+  return added;
+}
+
 const std::vector<Eigen::Vector3d> kManhattan = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
                                                  Eigen::Vector3d::UnitZ()};
 }  // namespace
@@ -33,7 +41,7 @@ TEST(DirectionMap, FindsTheThreeManhattanDirectionsAndAssociatesEverySegment) {
   const auto segments = to_direction_segments(along);
   DirectionMap map;
   const Eigen::Matrix3d R_cw = T.linear().transpose();
-  EXPECT_EQ(map.discover(segments, R_cw, kFocal), 3);
+  EXPECT_EQ(discover_over(map, segments, R_cw), 3);  // proposed in the first frame, confirmed in the third
   ASSERT_EQ(map.directions().size(), 3u);
   for (const auto& truth : kManhattan) {
     double best = 90;
@@ -59,7 +67,7 @@ TEST(DirectionMap, ShortSegmentsAndFarOffRotationsAreNotAssociated) {
   auto segments = to_direction_segments(segments_along(T, kManhattan, 8, 0.0, rng));
   DirectionMap map;
   const Eigen::Matrix3d R_cw = T.linear().transpose();
-  ASSERT_EQ(map.discover(segments, R_cw, kFocal), 3);
+  ASSERT_EQ(discover_over(map, segments, R_cw), 3);
   // 20 degrees off: most segments point far from every vanishing point (those near the line
   // between two vanishing points may still point at one).
   const Eigen::Matrix3d off = geometry::so3_exp(Eigen::Vector3d(0.2, -0.25, 0.15)) * R_cw;
@@ -81,7 +89,7 @@ TEST(DirectionMap, OneEdgeInPiecesIsNoDirection) {
     pieces.push_back({a, b, (b - a).norm() * kFocal * 5});  // counted long enough
   }
   DirectionMap map;
-  EXPECT_EQ(map.discover(pieces, Eigen::Matrix3d::Identity(), kFocal), 0);
+  EXPECT_EQ(discover_over(map, pieces, Eigen::Matrix3d::Identity()), 0);
   EXPECT_TRUE(map.directions().empty());
 }
 
@@ -95,12 +103,31 @@ TEST(DirectionMap, ManhattanOnlyRefusesADirectionAtAnAngleToTheKnownOnes) {
   const auto box = to_direction_segments(segments_along(T, {askew}, 10, 0.2, rng));
   const Eigen::Matrix3d R_cw = T.linear().transpose();
   DirectionMap manhattan;
-  ASSERT_EQ(manhattan.discover(room, R_cw, kFocal), 3);
-  EXPECT_EQ(manhattan.discover(box, R_cw, kFocal), 0);
+  ASSERT_EQ(discover_over(manhattan, room, R_cw), 3);
+  EXPECT_EQ(discover_over(manhattan, box, R_cw), 0);
   vo::DirectionConfig free_config;
   free_config.orthogonal_only = false;
   DirectionMap free(free_config);
-  ASSERT_EQ(free.discover(room, R_cw, kFocal), 3);
-  ASSERT_EQ(free.discover(box, R_cw, kFocal), 1);
+  ASSERT_EQ(discover_over(free, room, R_cw), 3);
+  ASSERT_EQ(discover_over(free, box, R_cw), 1);
   EXPECT_LT(angle_deg(free.directions().back(), askew), 0.5);
+}
+
+TEST(DirectionMap, AProposalSeenInOneFrameOnlyIsDropped) {
+  // A vanishing point in one frame, then frames without it: never known. Seen in frames 1, 3
+  // and 5 (three within five): known at the fifth.
+  std::mt19937 rng(14);
+  const Pose T = random_rotation_pose(rng, Eigen::Vector3d::Zero(), 10.0);
+  const auto room = to_direction_segments(segments_along(T, {Eigen::Vector3d::UnitY()}, 8, 0.2, rng));
+  const Eigen::Matrix3d R_cw = T.linear().transpose();
+  DirectionMap once;
+  EXPECT_EQ(once.discover(room, R_cw, kFocal), 0);
+  for (int k = 0; k < 8; ++k) EXPECT_EQ(once.discover({}, R_cw, kFocal), 0);
+  EXPECT_EQ(discover_over(once, room, R_cw, 2), 0);  // a fresh proposal, seen twice
+  EXPECT_TRUE(once.directions().empty());
+  DirectionMap gaps;
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(gaps.discover(k % 2 ? std::vector<DirectionSegment>{} : room, R_cw, kFocal), 0);
+  EXPECT_EQ(gaps.discover(room, R_cw, kFocal), 1);
+  ASSERT_EQ(gaps.directions().size(), 1u);
+  EXPECT_LT(angle_deg(gaps.directions()[0], Eigen::Vector3d::UnitY()), 0.5);
 }

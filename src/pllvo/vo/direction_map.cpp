@@ -94,7 +94,7 @@ int DirectionMap::discover(const std::vector<DirectionSegment>& segments, const 
   std::vector<size_t> candidates;
   for (size_t i = 0; i < segments.size(); ++i)
     if (known[i] < 0 && segments[i].length_px >= config_.min_length_px) candidates.push_back(i);
-  const int added = confirm_pending(segments, candidates, R_cam_world, focal);
+  const int added = confirm_pending(segments, candidates, R_cam_world, focal, true);
   std::stable_sort(candidates.begin(), candidates.end(),
                    [&](size_t a, size_t b) { return segments[a].length_px > segments[b].length_px; });
   if (candidates.size() > kMaxCandidates) candidates.resize(kMaxCandidates);
@@ -143,7 +143,7 @@ int DirectionMap::discover(const std::vector<DirectionSegment>& segments, const 
                      candidates.end());
   }
   std::vector<size_t> none;
-  return added + confirm_pending({}, none, R_cam_world, focal);
+  return added + confirm_pending({}, none, R_cam_world, focal, false);
 }
 
 bool DirectionMap::orthogonal_to_known(const Eigen::Vector3d& d) const {
@@ -164,13 +164,13 @@ bool DirectionMap::separate(const Eigen::Vector3d& d) const {
 }
 
 int DirectionMap::confirm_pending(const std::vector<DirectionSegment>& segments, std::vector<size_t>& candidates,
-                                  const Eigen::Matrix3d& R_cam_world, double focal) {
+                                  const Eigen::Matrix3d& R_cam_world, double focal, bool count_frame) {
   int added = 0;
   std::vector<Pending> kept;
   for (auto c : pending_) {
     // Seen again: min_support segments (not on a known direction) point at it. The frame
     // that proposed it (age 0) counts once, in the proposal.
-    if (!segments.empty()) {
+    if (count_frame) {
       const Eigen::Vector3d v = R_cam_world * c.direction;
       std::vector<size_t> on;
       for (size_t i : candidates)

@@ -46,11 +46,11 @@ class DirectionMap {
   int max_directions() const;
   bool separate(const Eigen::Vector3d& d) const;
   bool orthogonal_to_known(const Eigen::Vector3d& d) const;
-  /// Counts the frame for each proposal (segments: `candidates`, those on a proposal are
-  /// removed from it), makes the confirmed ones known and drops the stale ones. Returns how
-  /// many became known.
+  /// With count_frame, counts the frame for each proposal (segments: `candidates`, those on a
+  /// proposal are removed from it); then makes the confirmed ones known and drops the stale
+  /// ones. Returns how many became known.
   int confirm_pending(const std::vector<DirectionSegment>& segments, std::vector<size_t>& candidates,
-                      const Eigen::Matrix3d& R_cam_world, double focal);
+                      const Eigen::Matrix3d& R_cam_world, double focal, bool count_frame);
 
   DirectionConfig config_;
   std::vector<Eigen::Vector3d> directions_;  ///< unit, world frame; d and -d are one direction
