@@ -606,7 +606,7 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     extras.directions = direction_observations(dir_segments, T_pred_world.linear());
     extras.direction_weight = config_.directions.weight;
     stats_.add_count("direction_observations", static_cast<long long>(extras.directions.size()));
-    spdlog::debug("frame {}: {} of {} tracked lines on {} known directions", frame.index, extras.directions.size(),
+    spdlog::debug("frame {}: {} of {} detected segments on {} known directions", frame.index, extras.directions.size(),
                   dir_segments.size(), directions_.directions().size());
   }
 
