@@ -3,9 +3,10 @@
 // line errors (distances of the projected 3-D segment endpoints to the observed 2-D lines),
 // Huber or Cauchy loss, optional motion prior, optional epipolar errors of tracks without a
 // map point (robust like the points, never classified as outliers), optional vanishing-point
-// errors of segments parallel to known directions (robust like the lines, never classified). Solved by Levenberg-Marquardt with
-// iteratively reweighted normal equations on the 6-DoF pose (hand-written: a per-frame solve
-// of ~10 small iterations, where building a Ceres problem would cost more than solving).
+// errors of segments parallel to known directions (robust like the lines, never classified).
+// Solved by Levenberg-Marquardt with iteratively reweighted normal equations on the 6-DoF
+// pose (hand-written: a per-frame solve of ~10 small iterations, where building a Ceres
+// problem would cost more than solving).
 // Several rounds re-classify outliers and leave them out of the next round (ORB-SLAM style).
 #include <optional>
 #include <vector>
