@@ -47,6 +47,8 @@ TEST(GeometryConfig, DefaultFileMatchesTheDefaultsInCode) {
   EXPECT_EQ(c.two_view.min_good_fraction, d.two_view.min_good_fraction);
   EXPECT_EQ(c.two_view.max_ambiguity, d.two_view.max_ambiguity);
   EXPECT_EQ(c.two_view.max_direction_sigma_deg, d.two_view.max_direction_sigma_deg);
+  EXPECT_EQ(c.two_view.vanishing_sigma_deg, d.two_view.vanishing_sigma_deg);
+  EXPECT_EQ(c.two_view.vanishing_gate_deg, d.two_view.vanishing_gate_deg);
   EXPECT_EQ(c.stereo.max_epipolar_error_px, d.stereo.max_epipolar_error_px);
   EXPECT_EQ(c.stereo.min_disparity_px, d.stereo.min_disparity_px);
   EXPECT_EQ(c.stereo.max_disparity_px, d.stereo.max_disparity_px);
@@ -56,11 +58,14 @@ TEST(GeometryConfig, DefaultFileMatchesTheDefaultsInCode) {
 
 TEST(GeometryConfig, OverridesAndErrorsNameTheKey) {
   const auto c = GeometryConfig::load_file(
-      write_temp("ok.yaml", "pnp:\n  method: epnp\n  min_inliers: 30\nline_triangulation:\n  endpoints: union\n"));
+      write_temp("ok.yaml", "pnp:\n  method: epnp\n  min_inliers: 30\nline_triangulation:\n  endpoints: union\n"
+                            "two_view:\n  vanishing_sigma_deg: 0.5\n  vanishing_gate_deg: 3\n"));
   EXPECT_EQ(c.pnp.method, PnpMethod::kEpnp);
   EXPECT_EQ(c.pnp.min_inliers, 30);
   EXPECT_EQ(c.line_triangulation.endpoints, LineEndpointSource::kUnion);
   EXPECT_EQ(c.two_view.homography_ratio, 0.45);  // default kept
+  EXPECT_EQ(c.two_view.vanishing_sigma_deg, 0.5);
+  EXPECT_EQ(c.two_view.vanishing_gate_deg, 3.0);
 
   for (const auto& [text, key] : {std::pair{"pnp:\n  method: p4p\n", "pnp.method"},
                                   std::pair{"stereo:\n  min_disparity: 2\n", "stereo.min_disparity"},

@@ -131,3 +131,21 @@ TEST(DirectionMap, AProposalSeenInOneFrameOnlyIsDropped) {
   ASSERT_EQ(gaps.directions().size(), 1u);
   EXPECT_LT(angle_deg(gaps.directions()[0], Eigen::Vector3d::UnitY()), 0.5);
 }
+
+TEST(DirectionMap, ImageDirectionsAreTheManhattanAxesOfOneFrame) {
+  // What a monocular start uses: the axes one frame shows, in its camera frame.
+  std::mt19937 rng(15);
+  const Pose T = random_rotation_pose(rng, Eigen::Vector3d(0.3, -0.1, 0.2), 20.0);
+  const auto segments = to_direction_segments(segments_along(T, kManhattan, 8, 0.3, rng));
+  const auto found = vo::image_directions(segments, kFocal, {});
+  ASSERT_EQ(found.size(), 3u);
+  for (const auto& truth : kManhattan) {
+    const Eigen::Vector3d in_cam = T.linear().transpose() * truth;
+    double best = 90;
+    for (const auto& d : found) best = std::min(best, angle_deg(d, in_cam));
+    std::printf("axis %g %g %g: %.3f deg off\n", truth.x(), truth.y(), truth.z(), best);
+    EXPECT_LT(best, 0.5) << truth.transpose();
+  }
+  // Too few segments: none.
+  EXPECT_TRUE(vo::image_directions({segments.begin(), segments.begin() + 4}, kFocal, {}).empty());
+}

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/loss_function.h>
 #include <ceres/manifold.h>
@@ -122,12 +123,30 @@ struct DirectionPrior {
   }
 };
 
+/// A direction seen in both views: b (view 1) = R a (view 0); the residual is b x (R a), the
+/// sine of their angle, scaled like DirectionPrior.
+struct DirectionPairError {
+  Eigen::Vector3d a, b;  ///< unit, signs aligned
+  double scale;
+
+  template <typename T>
+  bool operator()(const T* q_xyzw, T* residual) const {
+    const Eigen::Quaternion<T> q(q_xyzw[3], q_xyzw[0], q_xyzw[1], q_xyzw[2]);
+    const Eigen::Matrix<T, 3, 1> Ra = q * a.cast<T>();
+    const Eigen::Matrix<T, 3, 1> c = b.cast<T>().cross(Ra);
+    for (int k = 0; k < 3; ++k) residual[k] = T(scale) * c[k];
+    return true;
+  }
+};
+
 /// Refines (R, unit t) on the inliers' Sampson errors: the RANSAC models come from minimal
 /// samples and are noticeably off; this is a two-view bundle adjustment with the points
-/// eliminated to first order. With `prior`, t is also pulled towards prior->expected.
+/// eliminated to first order. With `prior`, t is also pulled towards prior->expected; with
+/// `pairs`, R is held by the directions seen in both views.
 void refine_motion(Eigen::Matrix3d& R, Eigen::Vector3d& t, std::span<const Eigen::Vector2d> xy0,
                    std::span<const Eigen::Vector2d> xy1, const std::vector<uint8_t>& inliers, double focal_px,
-                   double sigma_px, const DirectionPrior* prior = nullptr) {
+                   double sigma_px, const DirectionPrior* prior = nullptr,
+                   const std::vector<DirectionPairError>* pairs = nullptr) {
   Eigen::Quaterniond q(R);
   double q_xyzw[4] = {q.x(), q.y(), q.z(), q.w()};
   double tt[3] = {t.x(), t.y(), t.z()};
@@ -146,6 +165,10 @@ void refine_motion(Eigen::Matrix3d& R, Eigen::Vector3d& t, std::span<const Eigen
   if (prior)
     problem.AddResidualBlock(new ceres::AutoDiffCostFunction<DirectionPrior, 3, 3>(new DirectionPrior(*prior)),
                              nullptr, tt);
+  if (pairs)
+    for (const auto& p : *pairs)
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<DirectionPairError, 3, 4>(new DirectionPairError(p)),
+                               nullptr, q_xyzw);
   problem.SetManifold(q_xyzw, new ceres::EigenQuaternionManifold);
   problem.SetManifold(tt, new ceres::SphereManifold<3>);
   ceres::Solver::Options options;
@@ -217,6 +240,70 @@ Candidate search_direction(const Candidate& winner, std::span<const Eigen::Vecto
   return Candidate(best.R, flipped.informative > best.informative ? flipped.t : best.t);
 }
 
+/// The directions of view 0 that `R` maps within config.vanishing_gate_deg of one of view 1
+/// (each used once, the closest first), signs aligned, scaled for refine_motion.
+std::vector<DirectionPairError> pair_directions(const ViewDirections& dirs, const Eigen::Matrix3d& R,
+                                                const TwoViewConfig& config) {
+  std::vector<DirectionPairError> out;
+  const double min_cos = std::cos(config.vanishing_gate_deg * M_PI / 180.0);
+  const double scale = config.sigma_px / (config.vanishing_sigma_deg * M_PI / 180.0);
+  std::vector<char> used(dirs.cam1.size(), 0);
+  for (const auto& a : dirs.cam0) {
+    const Eigen::Vector3d Ra = R * a;
+    int best = -1;
+    double best_cos = min_cos;
+    for (size_t j = 0; j < dirs.cam1.size(); ++j)
+      if (!used[j] && std::abs(dirs.cam1[j].dot(Ra)) > best_cos) best_cos = std::abs(dirs.cam1[j].dot(Ra)), best = j;
+    if (best < 0) continue;
+    used[best] = 1;
+    const Eigen::Vector3d& b = dirs.cam1[best];
+    out.push_back({a.normalized(), (b.dot(Ra) < 0 ? -b : b).normalized(), scale});
+  }
+  return out;
+}
+
+/// The rotation that maps each pair's a onto its b best (Wahba's problem; one pair: the
+/// smallest turn of R that does it).
+Eigen::Matrix3d align_directions(const std::vector<DirectionPairError>& pairs, const Eigen::Matrix3d& R) {
+  if (pairs.size() == 1) {
+    const Eigen::Vector3d Ra = R * pairs[0].a;
+    return Eigen::Quaterniond::FromTwoVectors(Ra, pairs[0].b).toRotationMatrix() * R;
+  }
+  Eigen::Matrix3d B = Eigen::Matrix3d::Zero();
+  for (const auto& p : pairs) B += p.b * p.a.transpose();
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(B, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1 : 1;
+  return svd.matrixU() * D * svd.matrixV().transpose();
+}
+
+/// With the rotation known, every match says t is perpendicular to x1 x (R x0): the unit t
+/// closest to all of them (its sign is left to cheirality).
+Eigen::Vector3d translation_given_rotation(const Eigen::Matrix3d& R, std::span<const Eigen::Vector2d> xy0,
+                                           std::span<const Eigen::Vector2d> xy1, const std::vector<uint8_t>& inliers) {
+  Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+  for (size_t i = 0; i < xy0.size(); ++i) {
+    if (!inliers[i]) continue;
+    const Eigen::Vector3d n = homogeneous(xy1[i]).cross(R * homogeneous(xy0[i])).normalized();
+    M += n * n.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(M);
+  return eig.eigenvectors().col(0);
+}
+
+/// The winner's motion with its rotation replaced by the one the direction pairs give and the
+/// translation solved again under it, its sign by cheirality.
+Candidate rotation_held_motion(const Candidate& winner, const std::vector<DirectionPairError>& pairs,
+                               std::span<const Eigen::Vector2d> xy0, std::span<const Eigen::Vector2d> xy1,
+                               const std::vector<uint8_t>& inliers, double max_error, const TwoViewConfig& config) {
+  const Eigen::Matrix3d R = align_directions(pairs, winner.R);
+  const Eigen::Vector3d t = translation_given_rotation(R, xy0, xy1, inliers);
+  Candidate plus(R, t), minus(R, -t);
+  evaluate(plus, xy0, xy1, inliers, max_error, config);
+  evaluate(minus, xy0, xy1, inliers, max_error, config);
+  return Candidate(R, minus.informative > plus.informative ? -t : t);
+}
+
 std::vector<cv::Point2d> to_cv(std::span<const Eigen::Vector2d> xy) {
   std::vector<cv::Point2d> out(xy.size());
   for (size_t i = 0; i < xy.size(); ++i) out[i] = {xy[i].x(), xy[i].y()};
@@ -277,6 +364,8 @@ void TwoViewConfig::load(const ConfigNode& node) {
   node.get("max_ambiguity", max_ambiguity);
   node.get("max_direction_sigma_deg", max_direction_sigma_deg);
   node.get("direction_search_starts", direction_search_starts);
+  node.get("vanishing_sigma_deg", vanishing_sigma_deg);
+  node.get("vanishing_gate_deg", vanishing_gate_deg);
   node.reject_unknown_keys();
 }
 
@@ -318,7 +407,7 @@ double score_homography(const Eigen::Matrix3d& H_1_0, std::span<const Eigen::Vec
 
 TwoViewResult initialise_two_view(std::span<const Eigen::Vector2d> xy0,
                                   std::span<const Eigen::Vector2d> xy1, double focal_px,
-                                  const TwoViewConfig& config) {
+                                  const TwoViewConfig& config, const ViewDirections* directions) {
   TwoViewResult out;
   const size_t n = xy0.size();
   out.inliers.assign(n, 0);
@@ -390,26 +479,33 @@ TwoViewResult initialise_two_view(std::span<const Eigen::Vector2d> xy0,
   // inlier set is biased by its error), refine again, and triangulate with the result.
   Candidate refined = search_direction(best, xy0, xy1, inliers_e, inliers_h, focal_px, max_error, config);
   std::vector<uint8_t> refined_inliers = out.inliers;
+  std::vector<DirectionPairError> pairs;
+  if (directions && config.vanishing_sigma_deg > 0) pairs = pair_directions(*directions, best.R, config);
+  out.vanishing_pairs = static_cast<int>(pairs.size());
+  if (!pairs.empty()) refined = rotation_held_motion(best, pairs, xy0, xy1, out.inliers, max_error, config);
   for (int pass = 0; pass < 2; ++pass) {
-    refine_motion(refined.R, refined.t, xy0, xy1, refined_inliers, focal_px, config.sigma_px);
+    refine_motion(refined.R, refined.t, xy0, xy1, refined_inliers, focal_px, config.sigma_px, nullptr,
+                  pairs.empty() ? nullptr : &pairs);
     score_essential(hat(refined.t) * refined.R, xy0, xy1, focal_px, config.sigma_px, refined_inliers);
   }
   evaluate(refined, xy0, xy1, refined_inliers, max_error, config);
   // Without the search, the refinement may slide a weakly determined translation (small
   // parallax, homography start) to a motion that explains the matches but triangulates
   // nothing: it is kept only when it still passes the same checks as the RANSAC winner. With
-  // the search, the refined motion is the estimate and must pass them itself.
+  // the search, or with the rotation held by directions, the refined motion is the estimate
+  // and must pass them itself.
   const int refined_triangulated =
       static_cast<int>(std::count(refined.triangulated.begin(), refined.triangulated.end(), 1));
   const bool refined_passes = refined.median_parallax_deg >= config.min_median_parallax_deg &&
                               refined_triangulated >= config.min_triangulated;
-  const bool searched = config.direction_search_starts > 0;
+  const bool searched = config.direction_search_starts > 0 || !pairs.empty();
   const bool use_refined = searched || (refined.good >= best.good * config.min_good_fraction && refined_passes);
   const Candidate& final_motion = use_refined ? refined : best;
   if (use_refined) out.inliers = refined_inliers;
   if (searched && !refined_passes) {
-    // The searched motion explains the matches best; the winner's larger parallax belongs to a
-    // wrong motion (docs/vo.md, session 30), so the start waits for a longer baseline.
+    // The searched (or rotation-held) motion explains the matches best; the winner's larger
+    // parallax belongs to a wrong motion (docs/vo.md, session 30), so the start waits for a
+    // longer baseline.
     out.median_parallax_deg = refined.median_parallax_deg;
     out.num_triangulated = refined_triangulated;
     out.failure = refined.median_parallax_deg < config.min_median_parallax_deg ? "parallax too low"

@@ -5,7 +5,9 @@
 // pass cheirality and reprojection checks (clearly ahead of the other candidates) wins.
 // The translation has unit length: the map scale is arbitrary. Optionally the motion is
 // searched over directions (a short baseline's cost has more than one valley) and refused when
-// its direction is too uncertain; both off by default (docs/vo.md, session 30).
+// its direction is too uncertain; both off by default (docs/vo.md, session 30). Directions seen
+// in both views (vanishing points) can hold the rotation, so that the translation has none to
+// trade for; off by default (session 34).
 #include <limits>
 #include <span>
 #include <string>
@@ -51,8 +53,21 @@ struct TwoViewConfig {
   /// and the best-scoring one kept: over a short baseline the RANSAC winner may lie in a wrong
   /// valley of the cost (0: refined from the winner only).
   int direction_search_starts = 0;
+  /// Vanishing directions seen in both views (`ViewDirections`) hold the rotation with this
+  /// standard deviation (degrees): the translation's direction then follows from the matches
+  /// alone, without the rotation it trades for over a short baseline (0: not used).
+  double vanishing_sigma_deg = 0.0;
+  /// A direction of view 0 and one of view 1 are the same when the RANSAC winner's rotation
+  /// maps one within this angle (degrees) of the other.
+  double vanishing_gate_deg = 5.0;
 
   void load(const ConfigNode& node);
+};
+
+/// Unit 3-D directions found in each view alone (camera frames; d and -d are one direction),
+/// e.g. the vanishing points of a room's edges.
+struct ViewDirections {
+  std::vector<Eigen::Vector3d> cam0, cam1;
 };
 
 /// How well a two-view motion fixes its translation's direction.
@@ -78,13 +93,16 @@ struct TwoViewResult {
   double median_parallax_deg = 0;
   double score_essential = 0, score_homography = 0;
   DirectionUncertainty direction;  ///< of the final motion (ok), or of the RANSAC winner
+  int vanishing_pairs = 0;  ///< directions seen in both views that held the rotation
   std::string failure;  ///< why ok is false
 };
 
-/// Relative pose of the second view from matches at normalised coordinates xy0[i] <-> xy1[i].
+/// Relative pose of the second view from matches at normalised coordinates xy0[i] <-> xy1[i];
+/// with `directions` (and config.vanishing_sigma_deg > 0) those seen in both views hold the
+/// rotation.
 TwoViewResult initialise_two_view(std::span<const Eigen::Vector2d> xy0,
                                   std::span<const Eigen::Vector2d> xy1, double focal_px,
-                                  const TwoViewConfig& config = {});
+                                  const TwoViewConfig& config = {}, const ViewDirections* directions = nullptr);
 
 /// The motion's information from the inliers' Sampson errors (each match's point eliminated to
 /// first order), with the errors' own rms as noise, inverted: the direction's standard

@@ -7,6 +7,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 
 #include "pllvo/geometry/vanishing.h"
 
@@ -194,6 +195,25 @@ int DirectionMap::confirm_pending(const std::vector<DirectionSegment>& segments,
   }
   pending_ = std::move(kept);
   return added;
+}
+
+std::vector<Eigen::Vector3d> image_directions(const std::vector<DirectionSegment>& segments, double focal,
+                                              DirectionConfig config) {
+  config.confirm_frames = 1;
+  DirectionMap map(config);
+  map.discover(segments, Eigen::Matrix3d::Identity(), focal);
+  std::vector<Eigen::Vector3d> out = map.directions();
+  if (!config.orthogonal_only || out.size() < 2) return out;
+  // Each was fitted on its own segments; the nearest orthonormal frame shares out their errors.
+  Eigen::Matrix3d M;
+  M.col(0) = out[0];
+  M.col(1) = out[1];
+  const Eigen::Vector3d third = out[0].cross(out[1]).normalized();
+  M.col(2) = out.size() > 2 ? (out[2].dot(third) < 0 ? -out[2] : out[2]) : third;
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::Matrix3d R = svd.matrixU() * svd.matrixV().transpose();
+  for (size_t k = 0; k < out.size(); ++k) out[k] = R.col(static_cast<int>(k));
+  return out;
 }
 
 }  // namespace pllvo::vo

@@ -57,4 +57,9 @@ class DirectionMap {
   std::vector<Pending> pending_;
 };
 
+/// The directions one image shows alone (camera frame): those a new map finds in it when a
+/// single frame confirms them (orthogonal_only: a Manhattan frame, three at most).
+std::vector<Eigen::Vector3d> image_directions(const std::vector<DirectionSegment>& segments, double focal,
+                                              DirectionConfig config);
+
 }  // namespace pllvo::vo

@@ -98,9 +98,11 @@ PoseEstimate estimate_pose(const Pinhole& cam, const std::vector<Eigen::Vector3d
 }
 
 TwoViewInit initialize_two_view(const Pinhole& cam, const std::vector<Eigen::Vector2d>& px0,
-                                const std::vector<Eigen::Vector2d>& px1, const geometry::TwoViewConfig& config) {
+                                const std::vector<Eigen::Vector2d>& px1, const geometry::TwoViewConfig& config,
+                                const geometry::ViewDirections* directions) {
   TwoViewInit init;
-  const auto r = geometry::initialise_two_view(normalised(cam, px0), normalised(cam, px1), cam.focal(), config);
+  const auto r =
+      geometry::initialise_two_view(normalised(cam, px0), normalised(cam, px1), cam.focal(), config, directions);
   init.model = geometry::to_string(r.model);
   init.failure = r.failure;
   init.median_parallax_deg = r.median_parallax_deg;
@@ -108,6 +110,7 @@ TwoViewInit initialize_two_view(const Pinhole& cam, const std::vector<Eigen::Vec
   init.num_triangulated = r.num_triangulated;
   init.direction_sigma_deg = r.direction.sigma_deg;
   init.residual_rms_px = r.direction.residual_rms_px;
+  init.vanishing_pairs = r.vanishing_pairs;
   if (!r.ok) return init;
   init.ok = true;
   init.T_cam1_cam0 = r.T_cam1_cam0;

@@ -78,11 +78,14 @@ struct TwoViewInit {
   int num_triangulated = 0;  ///< of them, triangulated by the best decomposition
   double direction_sigma_deg = std::numeric_limits<double>::infinity();  ///< of the translation direction (inf: not measured)
   double residual_rms_px = 0;      ///< the inliers' Sampson errors
+  int vanishing_pairs = 0;         ///< directions seen in both views that held the rotation
 };
 
-/// Monocular initialisation from pixel correspondences (E vs H, chosen by score).
+/// Monocular initialisation from pixel correspondences (E vs H, chosen by score); directions
+/// seen in both views (camera frames) hold the rotation when config.vanishing_sigma_deg > 0.
 TwoViewInit initialize_two_view(const Pinhole& cam, const std::vector<Eigen::Vector2d>& px0,
-                                const std::vector<Eigen::Vector2d>& px1, const geometry::TwoViewConfig& config);
+                                const std::vector<Eigen::Vector2d>& px1, const geometry::TwoViewConfig& config,
+                                const geometry::ViewDirections* directions = nullptr);
 
 /// Point from views with known poses (parallax, depth and reprojection checks).
 std::optional<Eigen::Vector3d> triangulate_point(const Pinhole& cam, const std::vector<geometry::Pose>& T_world_cam,

@@ -285,6 +285,13 @@ void Odometry::start_mono_reference(const io::Frame& frame, const cv::Mat& left,
   mono_->current = features.points;
   mono_->alive.assign(features.size(), 1);
   mono_->features = std::move(features);
+  mono_->directions = start_directions(left);
+}
+
+std::vector<Eigen::Vector3d> Odometry::start_directions(const cv::Mat& image) {
+  if (!use_directions_ || config_.geometry.two_view.vanishing_sigma_deg <= 0) return {};
+  ScopedTimer t(stats_, "direction_lines");
+  return image_directions(direction_segments(image), camera_.focal(), config_.directions);
 }
 
 bool Odometry::resume_mono(const io::Frame& frame, const cv::Mat& left, const ImagePyramid& pyramid,
@@ -345,7 +352,8 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   }
   if (median_flow < config_.init.mono_min_flow_px) return false;
 
-  const TwoViewInit two_view = initialize_two_view(camera_, px0, px1, config_.geometry.two_view);
+  const geometry::ViewDirections directions{ref.directions, start_directions(left)};
+  const TwoViewInit two_view = initialize_two_view(camera_, px0, px1, config_.geometry.two_view, &directions);
   if (!two_view.ok) {
     // The direction is measured only for a motion that passed the earlier checks.
     const std::string direction =
@@ -394,9 +402,9 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   T_world_work_ = T_world_cur;
   start_tracking(result, frame.timestamp, two_view.model);
   spdlog::info("monocular initialisation ({}) between frames {} and {}: {} points, median parallax {:.2f} deg, "
-               "direction sigma {:.1f} deg",
+               "direction sigma {:.1f} deg, rotation held by {} of {}/{} directions",
                two_view.model, reference.frame_index, frame.index, made, two_view.median_parallax_deg,
-               two_view.direction_sigma_deg);
+               two_view.direction_sigma_deg, two_view.vanishing_pairs, directions.cam0.size(), directions.cam1.size());
   return true;
 }
 

@@ -78,6 +78,7 @@ class Odometry {
     /// Frames between the reference and now with each feature's position (NaN: lost), so
     /// that they get a pose once the map exists.
     std::vector<std::pair<size_t, std::vector<cv::Point2f>>> history;
+    std::vector<Eigen::Vector3d> directions;  ///< of its image alone (geometry.two_view.vanishing_sigma_deg)
   };
 
   /// A new map on this frame. Stereo: `detected` holds its features when already detected, and
@@ -90,6 +91,8 @@ class Odometry {
   bool initialize_stereo(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
                          const ImagePyramid& pyramid, std::optional<DetectedKeyframe> detected, bool* relocalised);
   bool initialize_mono(const io::Frame& frame, const cv::Mat& left, const ImagePyramid& pyramid);
+  /// The directions this image shows alone, for a monocular start (empty when not used).
+  std::vector<Eigen::Vector3d> start_directions(const cv::Mat& image);
   /// A new monocular reference at this frame; `detected`: its features when already detected.
   void start_mono_reference(const io::Frame& frame, const cv::Mat& left, std::optional<PointFeatures> detected);
   /// pose.mono_resume_max_s: the map before the loss resumes at this frame when it relocalises
