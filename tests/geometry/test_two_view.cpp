@@ -174,18 +174,27 @@ TwoViewConfig short_baseline_config(int search_starts) {
 }
 }  // namespace
 
+namespace {
+/// Prints both spreads of the 8 cm step (40 draws) and checks that the plain one has starts in
+/// the wrong valley and the other none.
+void expect_fewer_far_off(const char* tag, const char* names, const DirectionSpread& plain,
+                          const DirectionSpread& other) {
+  std::printf("[ two-view %s ] 8 cm step, 40 draws: %d / %d solved, %d / %d over 20 deg off, rms %.1f / %.2f deg "
+              "(%s)\n",
+              tag, plain.solved, other.solved, plain.far_off, other.far_off, plain.rms_error_deg, other.rms_error_deg,
+              names);
+  EXPECT_GE(plain.far_off, 3);
+  EXPECT_EQ(other.far_off, 0);
+  EXPECT_GE(other.solved, 38);
+}
+}  // namespace
+
 TEST(TwoView, DirectionSearchFindsTheValleyTheRansacWinnerMisses) {
   // Over a short step the RANSAC winner sometimes lies in a second valley of the Sampson cost
   // (forward motion with a little more rotation, 55-80 deg off), and refining it stays there.
   const auto plain = direction_spread(kShortStep, short_baseline_config(0), 40);
   const auto searched = direction_spread(kShortStep, short_baseline_config(24), 40);
-  std::printf("[ two-view search ] 8 cm step, 40 draws: %d / %d solved, %d / %d over 20 deg off, rms %.1f / %.2f deg "
-              "(refined from the winner / searched)\n",
-              plain.solved, searched.solved, plain.far_off, searched.far_off, plain.rms_error_deg,
-              searched.rms_error_deg);
-  EXPECT_GE(plain.far_off, 3);
-  EXPECT_EQ(searched.far_off, 0);
-  EXPECT_GE(searched.solved, 38);
+  expect_fewer_far_off("search", "refined from the winner / searched", plain, searched);
 }
 
 TEST(TwoView, VanishingDirectionsHoldTheRotationAndTheDirectionFollows) {
@@ -198,13 +207,7 @@ TEST(TwoView, VanishingDirectionsHoldTheRotationAndTheDirectionFollows) {
   const auto plain = direction_spread(kShortStep, short_baseline_config(0), 40);
   const auto with_axes = direction_spread(kShortStep, held, 40, 0.1);
   const auto unused = direction_spread(kShortStep, short_baseline_config(0), 40, 0.1);
-  std::printf("[ two-view vanishing ] 8 cm step, 40 draws: %d / %d solved, %d / %d over 20 deg off, rms %.1f / %.2f deg "
-              "(plain / rotation held by the axes)\n",
-              plain.solved, with_axes.solved, plain.far_off, with_axes.far_off, plain.rms_error_deg,
-              with_axes.rms_error_deg);
-  EXPECT_GE(plain.far_off, 3);
-  EXPECT_EQ(with_axes.far_off, 0);
-  EXPECT_GE(with_axes.solved, 38);
+  expect_fewer_far_off("vanishing", "plain / rotation held by the axes", plain, with_axes);
   EXPECT_LT(with_axes.rms_error_deg, 3.5);
   // vanishing_sigma_deg 0: directions given are not used.
   EXPECT_EQ(unused.far_off, plain.far_off);

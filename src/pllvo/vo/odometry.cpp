@@ -401,10 +401,14 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   mono_.reset();
   T_world_work_ = T_world_cur;
   start_tracking(result, frame.timestamp, two_view.model);
+  const std::string held = config_.geometry.two_view.vanishing_sigma_deg > 0
+                               ? fmt::format(", rotation held by {} of {}/{} directions", two_view.vanishing_pairs,
+                                             directions.cam0.size(), directions.cam1.size())
+                               : std::string();
   spdlog::info("monocular initialisation ({}) between frames {} and {}: {} points, median parallax {:.2f} deg, "
-               "direction sigma {:.1f} deg, rotation held by {} of {}/{} directions",
+               "direction sigma {:.1f} deg{}",
                two_view.model, reference.frame_index, frame.index, made, two_view.median_parallax_deg,
-               two_view.direction_sigma_deg, two_view.vanishing_pairs, directions.cam0.size(), directions.cam1.size());
+               two_view.direction_sigma_deg, held);
   return true;
 }
 
