@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 
 namespace pllvo::geometry {
 
@@ -21,6 +22,16 @@ inline Pose make_pose(const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
 inline double rotation_angle(const Eigen::Matrix3d& R) {
   const Eigen::Quaterniond q(R);
   return 2.0 * std::atan2(q.vec().norm(), std::abs(q.w()));
+}
+
+/// The rotation nearest to M in the Frobenius norm: U V^T of its SVD, with the last axis
+/// flipped where that would be a reflection. Wahba's problem (M = sum of b a^T over pairs that
+/// should satisfy b = R a) and re-orthonormalising a nearly orthonormal frame are both this.
+inline Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& M) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0) D(2, 2) = -1;
+  return svd.matrixU() * D * svd.matrixV().transpose();
 }
 
 /// Skew-symmetric matrix: hat(a) * b == a.cross(b).

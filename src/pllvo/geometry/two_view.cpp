@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
-#include <Eigen/SVD>
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/loss_function.h>
 #include <ceres/manifold.h>
@@ -271,10 +270,7 @@ Eigen::Matrix3d align_directions(const std::vector<DirectionPairError>& pairs, c
   }
   Eigen::Matrix3d B = Eigen::Matrix3d::Zero();
   for (const auto& p : pairs) B += p.b * p.a.transpose();
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(B, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-  D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1 : 1;
-  return svd.matrixU() * D * svd.matrixV().transpose();
+  return nearest_rotation(B);
 }
 
 /// With the rotation known, every match says t is perpendicular to x1 x (R x0): the unit t
@@ -498,11 +494,12 @@ TwoViewResult initialise_two_view(std::span<const Eigen::Vector2d> xy0,
       static_cast<int>(std::count(refined.triangulated.begin(), refined.triangulated.end(), 1));
   const bool refined_passes = refined.median_parallax_deg >= config.min_median_parallax_deg &&
                               refined_triangulated >= config.min_triangulated;
-  const bool searched = config.direction_search_starts > 0 || !pairs.empty();
-  const bool use_refined = searched || (refined.good >= best.good * config.min_good_fraction && refined_passes);
+  const bool refined_is_estimate = config.direction_search_starts > 0 || !pairs.empty();
+  const bool use_refined =
+      refined_is_estimate || (refined.good >= best.good * config.min_good_fraction && refined_passes);
   const Candidate& final_motion = use_refined ? refined : best;
   if (use_refined) out.inliers = refined_inliers;
-  if (searched && !refined_passes) {
+  if (refined_is_estimate && !refined_passes) {
     // The searched (or rotation-held) motion explains the matches best; the winner's larger
     // parallax belongs to a wrong motion (docs/vo.md, session 30), so the start waits for a
     // longer baseline.

@@ -7,8 +7,8 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
-#include <Eigen/SVD>
 
+#include "pllvo/geometry/pose.h"
 #include "pllvo/geometry/vanishing.h"
 
 namespace pllvo::vo {
@@ -210,8 +210,7 @@ std::vector<Eigen::Vector3d> image_directions(const std::vector<DirectionSegment
   M.col(1) = out[1];
   const Eigen::Vector3d third = out[0].cross(out[1]).normalized();
   M.col(2) = out.size() > 2 ? (out[2].dot(third) < 0 ? -out[2] : out[2]) : third;
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const Eigen::Matrix3d R = svd.matrixU() * svd.matrixV().transpose();
+  const Eigen::Matrix3d R = geometry::nearest_rotation(M);
   for (size_t k = 0; k < out.size(); ++k) out[k] = R.col(static_cast<int>(k));
   return out;
 }
