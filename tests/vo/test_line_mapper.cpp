@@ -72,3 +72,61 @@ TEST(LineMapper, StereoKeyframeTriangulatesLinesAtTheirMetricDepth) {
   const auto mono = mapper.plan(left, geometry::Pose::Identity(), {}, nullptr, {}, map);
   EXPECT_EQ(mono.from_stereo, 0);
 }
+
+TEST(LineMapper, MonocularLinesMeetTheKeyframesPlaneAngle) {
+  // Side by side, each rectangle's vertical edges in full view from both keyframes. The second
+  // keyframe is 0.2 m along x: at 2.5-4 m that baseline subtends 2.9-4.6 deg, which passes a
+  // 2 deg plane angle (plain monocular keyframes', plain_scene.mono_line_min_plane_angle_deg)
+  // and fails the monocular 5 deg.
+  const std::vector<Rectangle> rects = {{-1.2, -0.9, -0.6, 0.8, 4.0, 40},
+                                        {-0.3, -0.7, 0.25, 0.6, 3.2, 215},
+                                        {0.45, -0.4, 0.85, 0.5, 2.5, 60}};
+  constexpr double kStep = 0.2;
+  const vo::Pinhole cam = rectified_camera();
+  geometry::Pose second = geometry::Pose::Identity();
+  second.translation() = V3(kStep, 0, 0);
+  // The first keyframe's lines: the vertical edges' exact projections; their tracks end on the
+  // second keyframe's projections, where detection finds the edges again.
+  std::vector<vo::Segment2d> first_lines;
+  std::vector<vo::TrackedLine> tracks;
+  for (const auto& r : rects)
+    for (const double x : {r.x0, r.x1}) {
+      vo::Segment2d s0, s1;
+      cam.project(V3(x, r.y0 + 0.1, r.z), s0.a);
+      cam.project(V3(x, r.y1 - 0.1, r.z), s0.b);
+      cam.project(V3(x - kStep, r.y0 + 0.1, r.z), s1.a);
+      cam.project(V3(x - kStep, r.y1 - 0.1, r.z), s1.b);
+      first_lines.push_back(s0);
+      vo::TrackedLine t;
+      t.segment = vo::to_line_segment(s1);
+      tracks.push_back(t);
+    }
+  vo::Map map;
+  vo::Id kf = vo::kNoId;
+  map.write([&](vo::MapData& m) {
+    vo::Keyframe k;
+    k.lines = first_lines;
+    kf = m.add_keyframe(std::move(k));
+  });
+  for (size_t i = 0; i < tracks.size(); ++i) tracks[i].origin = tracks[i].last = {kf, static_cast<int>(i)};
+
+  geometry::LineTriangulationConfig mono;
+  mono.min_plane_angle_deg = 5.0;
+  vo::LineMapper mapper(lines::LinesConfig{}, mono, cam);
+  const cv::Mat image = render(rects, kStep);
+  auto count = [](const vo::LinePlan& p) {
+    return std::count_if(p.triangulated.begin(), p.triangulated.end(), [](const auto& t) { return t.has_value(); });
+  };
+  const auto wide = mapper.plan(image, second, tracks, nullptr, {}, map);
+  EXPECT_GE(wide.from_tracks, 5);
+  EXPECT_EQ(count(wide), 0);
+  const auto quiet = mapper.plan(image, second, tracks, nullptr, {}, map, {}, 0.0, 2.0);
+  EXPECT_GE(count(quiet), 5);
+  for (const auto& t : quiet.triangulated) {
+    if (!t) continue;
+    double best = 1e9;
+    for (const auto& r : rects)
+      best = std::min(best, std::max(std::abs(t->start.z() - r.z), std::abs(t->end.z() - r.z)) / r.z);
+    EXPECT_LT(best, 0.05) << "line at depth " << t->start.z() << " .. " << t->end.z();
+  }
+}

@@ -107,6 +107,8 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.plain_scene.max_keyframe_features, code.plain_scene.max_keyframe_features);
   EXPECT_EQ(file.plain_scene.max_tracked_points, code.plain_scene.max_tracked_points);
   EXPECT_DOUBLE_EQ(file.plain_scene.line_aperture_eigen_ratio, code.plain_scene.line_aperture_eigen_ratio);
+  EXPECT_DOUBLE_EQ(file.plain_scene.mono_line_min_plane_angle_deg, code.plain_scene.mono_line_min_plane_angle_deg);
+  EXPECT_EQ(file.plain_scene.mono_max_keyframe_features, code.plain_scene.mono_max_keyframe_features);
   const auto& fd = file.directions;
   const auto& cd = code.directions;
   EXPECT_EQ(fd.mono, cd.mono);
@@ -140,12 +142,16 @@ TEST(VoConfig, DirectionKeysAreReadAndChecked) {
 
 TEST(VoConfig, PlainSceneKeysAreReadAndChecked) {
   const VoConfig c = VoConfig::load(write_yaml(
-      "plain", "plain_scene:\n  max_keyframe_features: 0\n  max_tracked_points: 12\n  line_aperture_eigen_ratio: 0.1\n"));
+      "plain", "plain_scene:\n  max_keyframe_features: 0\n  max_tracked_points: 12\n  line_aperture_eigen_ratio: 0.1\n"
+               "  mono_line_min_plane_angle_deg: 3\n  mono_max_keyframe_features: 90\n"));
+  EXPECT_DOUBLE_EQ(c.plain_scene.mono_line_min_plane_angle_deg, 3.0);
+  EXPECT_EQ(c.plain_scene.mono_max_keyframe_features, 90);
   EXPECT_EQ(c.plain_scene.max_keyframe_features, 0);
   EXPECT_EQ(c.plain_scene.max_tracked_points, 12);
   EXPECT_DOUBLE_EQ(c.plain_scene.line_aperture_eigen_ratio, 0.1);
   for (const char* bad : {"max_keyframe_features: -1", "max_tracked_points: -3", "line_aperture_eigen_ratio: 0",
-                          "line_aperture_eigen_ratio: 1.5", "max_features: 10"}) {
+                          "line_aperture_eigen_ratio: 1.5", "max_features: 10", "mono_line_min_plane_angle_deg: 90",
+                          "mono_line_min_plane_angle_deg: -1", "mono_max_keyframe_features: -5"}) {
     expect_rejected("badplain", std::string("plain_scene:\n  ") + bad + "\n", "plain_scene");
   }
 }

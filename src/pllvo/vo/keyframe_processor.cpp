@@ -59,6 +59,14 @@ KeyframeProcessor::KeyframeProcessor(const VoConfig& config, const Pinhole& came
     line_mapper_ = std::make_unique<LineMapper>(config_.lines, config_.geometry.line_triangulation, camera_);
 }
 
+std::optional<double> KeyframeProcessor::line_plane_angle(const KeyframeJob& job, size_t features) const {
+  const auto& plain = config_.plain_scene;
+  if (!job.right.empty() || plain.mono_line_min_plane_angle_deg <= 0 ||
+      static_cast<int>(features) >= plain.mono_max_keyframe_features || job.image_noise >= config_.run.noisy_frame_noise)
+    return std::nullopt;
+  return plain.mono_line_min_plane_angle_deg;
+}
+
 backend::BundleAdjustmentConfig KeyframeProcessor::window_ba_config(double image_noise) const {
   backend::BundleAdjustmentConfig ba = config_.backend.bundle_adjustment;
   if (baseline_ > 0) return ba;
@@ -488,7 +496,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
     ScopedTimer t(stats_, "kf_lines");
     line_plan = line_mapper_->plan(job.left, job.T_world_cam, job.lines, has_prev ? &prev : nullptr,
                                    point_matches_with(prev, has_prev, features, ids, previous, matches), map_,
-                                   stereo_lines ? job.right : cv::Mat(), baseline_);
+                                   stereo_lines ? job.right : cv::Mat(), baseline_, line_plane_angle(job, n));
     stats_.add_sample("kf_lines", static_cast<double>(line_plan.segments.size()));
     if (stereo_lines) stats_.add_sample("kf_stereo_lines", line_plan.from_stereo);
   }

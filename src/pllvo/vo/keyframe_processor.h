@@ -150,6 +150,10 @@ class KeyframeProcessor {
                         std::vector<Observation>& origins, std::vector<Observation>& previous);
   /// Keeps a monocular keyframe's tracking image for align_to_origins (the newest ones only).
   void remember_image(Id keyframe, const KeyframeJob& job);
+  /// Two-view angle for this keyframe's new 3-D lines (`features` point detections):
+  /// plain_scene.mono_line_min_plane_angle_deg on plain, quiet monocular keyframes, else none
+  /// (the triangulation config's).
+  std::optional<double> line_plane_angle(const KeyframeJob& job, size_t features) const;
   /// The window BA's settings for a keyframe with this image noise (the monocular gauge).
   backend::BundleAdjustmentConfig window_ba_config(double image_noise) const;
 

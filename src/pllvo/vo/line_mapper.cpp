@@ -48,7 +48,7 @@ std::vector<lines::LineSegment> LineMapper::detect(const cv::Mat& image) {
 LinePlan LineMapper::plan(const cv::Mat& image, const geometry::Pose& T_world_cam,
                           const std::vector<TrackedLine>& tracked, const Keyframe* previous,
                           const std::vector<lines::PointMatch>& point_matches, const Map& map,
-                          const cv::Mat& right, double baseline) {
+                          const cv::Mat& right, double baseline, std::optional<double> min_plane_angle_deg) {
   LinePlan plan;
   plan.segments = detect(image);
   const size_t m = plan.segments.size();
@@ -146,13 +146,15 @@ LinePlan LineMapper::plan(const cv::Mat& image, const geometry::Pose& T_world_ca
       }
     }
   });
+  geometry::LineTriangulationConfig two_view = triangulation_;
+  if (min_plane_angle_deg) two_view.min_plane_angle_deg = *min_plane_angle_deg;
   for (size_t j = 0; j < m; ++j) {
     if (plan.ids[j] != kNoId) continue;
     const auto& s = plan.segments[j];
     for (const View& v : views[j]) {  // the origin first: the widest baseline
       const auto t = geometry::triangulate_line(v.T_world_cam, camera_.normalised(v.segment.a),
                                                 camera_.normalised(v.segment.b), T_world_cam,
-                                                camera_.normalised(s.start), camera_.normalised(s.end), triangulation_);
+                                                camera_.normalised(s.start), camera_.normalised(s.end), two_view);
       if (!t.ok()) continue;
       plan.triangulated[j] = t.segment_world;
       break;

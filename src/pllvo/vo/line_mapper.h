@@ -50,10 +50,12 @@ class LineMapper {
   /// `previous` is the previous keyframe of the segment (null for the first one);
   /// `point_matches` pairs pixels of the same points in `previous` and this keyframe.
   /// With a rectified right image (`baseline` > 0), lines left without a 3-D line are matched
-  /// left-right and triangulated at metric scale.
+  /// left-right and triangulated at metric scale. `min_plane_angle_deg` replaces the
+  /// triangulation config's angle for this keyframe's two-view lines.
   LinePlan plan(const cv::Mat& image, const geometry::Pose& T_world_cam, const std::vector<TrackedLine>& tracked,
                 const Keyframe* previous, const std::vector<lines::PointMatch>& point_matches, const Map& map,
-                const cv::Mat& right = {}, double baseline = 0.0);
+                const cv::Mat& right = {}, double baseline = 0.0,
+                std::optional<double> min_plane_angle_deg = std::nullopt);
 
   /// Stores the plan's lines in keyframe `kf` (already added with plan.segments as its lines).
   /// Returns the number of new map lines.

@@ -152,6 +152,8 @@ void read_plain_scene(const ConfigNode& n, PlainSceneConfig& c) {
   n.get("max_keyframe_features", c.max_keyframe_features);
   n.get("max_tracked_points", c.max_tracked_points);
   n.get("line_aperture_eigen_ratio", c.line_aperture_eigen_ratio);
+  n.get("mono_line_min_plane_angle_deg", c.mono_line_min_plane_angle_deg);
+  n.get("mono_max_keyframe_features", c.mono_max_keyframe_features);
   n.reject_unknown_keys();
 }
 
@@ -331,6 +333,10 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(plain_scene.max_tracked_points >= 0, file, "plain_scene.max_tracked_points", "must be >= 0 (0: off)");
   require(plain_scene.line_aperture_eigen_ratio > 0 && plain_scene.line_aperture_eigen_ratio < 1, file,
           "plain_scene.line_aperture_eigen_ratio", "must be in (0, 1)");
+  require(plain_scene.mono_line_min_plane_angle_deg >= 0 && plain_scene.mono_line_min_plane_angle_deg < 90, file,
+          "plain_scene.mono_line_min_plane_angle_deg", "must be in [0, 90) (0: off)");
+  require(plain_scene.mono_max_keyframe_features >= 0, file, "plain_scene.mono_max_keyframe_features",
+          "must be >= 0 (0: off)");
   require(mapping.max_anchor_keyframes >= 0, file, "mapping.max_anchor_keyframes", "must not be negative");
   require(mapping.mono_line_min_plane_angle_deg >= 0 && mapping.mono_line_min_plane_angle_deg < 90, file,
           "mapping.mono_line_min_plane_angle_deg", "must be in [0, 90)");

@@ -391,6 +391,14 @@ struct PlainSceneConfig {
   /// edge keep only their motion across it (0: off).
   int max_tracked_points = 30;
   double line_aperture_eigen_ratio = 0.05;
+  /// Monocular keyframes with fewer point detections than mono_max_keyframe_features and less
+  /// image noise than run.noisy_frame_noise (normal light) triangulate new 3-D lines from this
+  /// angle between their planes instead of mapping.mono_line_min_plane_angle_deg (0: off). In a
+  /// plain room the few long edges are what the map can hold on to, and at 5 deg almost none is
+  /// ever triangulated; on textured keyframes, and in low light, 2 deg lines pull the scale
+  /// (docs/vo.md, sessions 6 and 35).
+  double mono_line_min_plane_angle_deg = 2.0;
+  int mono_max_keyframe_features = 120;
 };
 
 /// Known 3-D directions (vo::DirectionMap): lines that share a vanishing point in one frame
