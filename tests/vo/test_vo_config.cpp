@@ -79,6 +79,7 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_EQ(file.run.keyframe_stages, code.run.keyframe_stages);
   EXPECT_EQ(file.run.starving_points, code.run.starving_points);
   EXPECT_EQ(file.run.mono_starving_points, code.run.mono_starving_points);
+  EXPECT_EQ(file.run.mono_noisy_starving_points, code.run.mono_noisy_starving_points);
   EXPECT_EQ(file.run.noisy_starving_points, code.run.noisy_starving_points);
   EXPECT_DOUBLE_EQ(file.run.noisy_frame_noise, code.run.noisy_frame_noise);
   EXPECT_DOUBLE_EQ(file.pose.extrapolate_gap_max_s, code.pose.extrapolate_gap_max_s);
@@ -260,7 +261,7 @@ TEST(VoConfig, EpipolarTrackGatesAreReadCheckedAndApplied) {
 TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {
   const VoConfig c = VoConfig::load(write_yaml(
       "speed", "frontend:\n  superpoint_conv_layout: nchw\nrun:\n  network_threads: 1\n  keyframe_stages: 1\n  starving_points: 25\n  mono_starving_points: 50\n"
-               "  noisy_starving_points: 70\n  noisy_frame_noise: 4.0\n"
+               "  noisy_starving_points: 70\n  noisy_frame_noise: 4.0\n  mono_noisy_starving_points: 90\n"
                "mapping:\n  match_untracked_only: false\npose:\n  extrapolate_gap_max_s: 0.25\n  relocalise_min_inliers: 0\n"
                "  mono_resume_max_s: 1.5\n  relocalise_keyframes: 2\n  stereo_restart_at_once: false\n"));
   EXPECT_EQ(c.frontend.superpoint_conv_layout, "nchw");
@@ -272,13 +273,17 @@ TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {
   // A monocular run waits by its own threshold; a stereo run keeps the common one.
   EXPECT_EQ(c.for_mode(false).run.starving_points, 50);
   EXPECT_EQ(c.for_mode(true).run.starving_points, 25);
-  // Stereo: a noisy frame (low light) waits below the noisy threshold; monocular runs keep theirs.
+  // A noisy frame (low light) waits below the noisy threshold, stereo's or monocular's.
   EXPECT_EQ(c.for_mode(true).run.starving_points_at(1.2), 25);
   EXPECT_EQ(c.for_mode(true).run.starving_points_at(3.99), 25);
   EXPECT_EQ(c.for_mode(true).run.starving_points_at(4.0), 70);
   EXPECT_EQ(c.for_mode(true).run.starving_points_at(7.5), 70);
   EXPECT_EQ(c.for_mode(false).run.starving_points_at(1.2), 50);
-  EXPECT_EQ(c.for_mode(false).run.starving_points_at(7.5), 50);
+  EXPECT_EQ(c.for_mode(false).run.starving_points_at(3.99), 50);
+  EXPECT_EQ(c.for_mode(false).run.starving_points_at(7.5), 90);
+  // By default a noisy monocular frame waits for any keyframe in flight.
+  EXPECT_GE(VoConfig{}.for_mode(false).run.starving_points_at(5.0), 1000);
+  EXPECT_EQ(VoConfig{}.for_mode(false).run.starving_points_at(1.0), 60);
   EXPECT_FALSE(c.mapping.match_untracked_only);
   EXPECT_DOUBLE_EQ(c.pose.extrapolate_gap_max_s, 0.25);
   EXPECT_EQ(c.pose.relocalise_min_inliers, 0);
@@ -295,6 +300,7 @@ TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {
       {"run:\n  keyframe_stages: 3\n", "run.keyframe_stages"},
       {"run:\n  starving_points: -1\n", "run.starving_points"},
       {"run:\n  mono_starving_points: -1\n", "run.mono_starving_points"},
+      {"run:\n  mono_noisy_starving_points: -1\n", "run.mono_noisy_starving_points"},
       {"run:\n  noisy_starving_points: -1\n", "run.noisy_starving_points"},
       {"run:\n  noisy_frame_noise: 0\n", "run.noisy_frame_noise"}};
   for (const auto& [text, key] : bad) expect_rejected("badspeed", text, key);

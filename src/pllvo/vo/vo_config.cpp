@@ -179,6 +179,7 @@ void read_run(const ConfigNode& n, RunConfig& c) {
   n.get("wait_when_starving", c.wait_when_starving);
   n.get("starving_points", c.starving_points);
   n.get("mono_starving_points", c.mono_starving_points);
+  n.get("mono_noisy_starving_points", c.mono_noisy_starving_points);
   n.get("noisy_starving_points", c.noisy_starving_points);
   n.get("noisy_frame_noise", c.noisy_frame_noise);
   n.get("network_threads", c.network_threads);
@@ -206,7 +207,7 @@ VoConfig VoConfig::for_mode(bool stereo) const {
     auto& weight = c.backend.bundle_adjustment.line_weight;
     weight = std::min(weight, mapping.mono_ba_line_weight);
     c.run.starving_points = run.mono_starving_points;
-    c.run.noisy_starving_points = run.mono_starving_points;
+    c.run.noisy_starving_points = run.mono_noisy_starving_points;
     c.frontend.min_corner_ratio = frontend.mono_min_corner_ratio;
     c.frontend.working_view = frontend.mono_working_view;
   }
@@ -257,6 +258,7 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(run.network_threads >= 1 && run.network_threads <= 64, file, "run.network_threads", "must be in [1, 64]");
   require(run.starving_points >= 0, file, "run.starving_points", "must not be negative");
   require(run.mono_starving_points >= 0, file, "run.mono_starving_points", "must not be negative");
+  require(run.mono_noisy_starving_points >= 0, file, "run.mono_noisy_starving_points", "must not be negative");
   require(run.noisy_starving_points >= 0, file, "run.noisy_starving_points", "must not be negative");
   require(run.noisy_frame_noise > 0 && std::isfinite(run.noisy_frame_noise), file, "run.noisy_frame_noise",
           "must be positive");

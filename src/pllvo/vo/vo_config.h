@@ -458,6 +458,13 @@ struct RunConfig {
   /// (ECD threaded: 47 frames tracked, 17.2 % ATE at 45; 56 frames, 2.60 % at 60, as a
   /// single-thread run; docs/vo.md, session 15). Stereo maps get their depth from the pair.
   int mono_starving_points = 60;
+  /// ...and on their noisy frames (noisy_frame_noise) this instead: in low light a monocular
+  /// tracker waits for every keyframe in flight (no frame follows 1000 map points), so a threaded
+  /// run is the single-thread run. The few keyframes it did not wait for moved threaded
+  /// difficult_lowlight from a 1.97 % mean over starts 0-7 (single thread) to 2.70 %. Waiting
+  /// for all costs no speed where the tracker already waited for 137-143 of ~140 keyframes
+  /// (medium and difficult low light), easy_lowlight 8.8 -> 6.0 frames/s (docs/vo.md, session 35).
+  int mono_noisy_starving_points = 1000;
   /// Stereo frames whose image noise reaches noisy_frame_noise (grey levels, the estimate
   /// klt.denoise_min_noise reads: the suite's normal light 0.5-2.8, its low light 4.1-9) starve below
   /// noisy_starving_points instead: each noisy track holds the pose less, and in the fast dark
