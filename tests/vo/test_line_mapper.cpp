@@ -42,6 +42,14 @@ cv::Mat render(const std::vector<Rectangle>& rects, double camera_x) {
   }
   return image;
 }
+
+// Relative depth error of a 3-D line against the rectangle whose depth it is closest to (both ends).
+double depth_error(const geometry::LineSegment3d& line, const std::vector<Rectangle>& rects) {
+  double best = 1e9;
+  for (const auto& r : rects)
+    best = std::min(best, std::max(std::abs(line.start.z() - r.z), std::abs(line.end.z() - r.z)) / r.z);
+  return best;
+}
 }  // namespace
 
 TEST(LineMapper, StereoKeyframeTriangulatesLinesAtTheirMetricDepth) {
@@ -62,10 +70,7 @@ TEST(LineMapper, StereoKeyframeTriangulatesLinesAtTheirMetricDepth) {
   for (const auto& t : plan.triangulated) {
     if (!t) continue;
     ++checked;
-    double best = 1e9;
-    for (const auto& r : rects)
-      best = std::min(best, std::max(std::abs(t->start.z() - r.z), std::abs(t->end.z() - r.z)) / r.z);
-    EXPECT_LT(best, 0.04) << "line at depth " << t->start.z() << " .. " << t->end.z();
+    EXPECT_LT(depth_error(*t, rects), 0.04) << "line at depth " << t->start.z() << " .. " << t->end.z();
   }
   EXPECT_EQ(checked, plan.from_stereo);
   // Without the right image, the first keyframe has no 3-D lines.
@@ -124,9 +129,6 @@ TEST(LineMapper, MonocularLinesMeetTheKeyframesPlaneAngle) {
   EXPECT_GE(count(quiet), 5);
   for (const auto& t : quiet.triangulated) {
     if (!t) continue;
-    double best = 1e9;
-    for (const auto& r : rects)
-      best = std::min(best, std::max(std::abs(t->start.z() - r.z), std::abs(t->end.z() - r.z)) / r.z);
-    EXPECT_LT(best, 0.05) << "line at depth " << t->start.z() << " .. " << t->end.z();
+    EXPECT_LT(depth_error(*t, rects), 0.05) << "line at depth " << t->start.z() << " .. " << t->end.z();
   }
 }
