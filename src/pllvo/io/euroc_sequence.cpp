@@ -5,13 +5,13 @@
 #include <fstream>
 #include <sstream>
 
-#include <Eigen/SVD>
 #include <spdlog/spdlog.h>
 #include <yaml-cpp/yaml.h>
 
 #include "pllvo/camera/camera_yaml.h"
 #include "pllvo/common/error.h"
 #include "pllvo/common/yaml_config.h"
+#include "pllvo/geometry/pose.h"
 #include "pllvo/io/dataset_files.h"
 
 namespace pllvo::io {
@@ -56,9 +56,8 @@ Eigen::Isometry3d read_T_BS(const ConfigNode& node) {
       (R * R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-5 || R.determinant() < 0)
     throw InputError(node.file(), t.path("data"), "not a rigid transform (rotation not orthonormal or last row not 0 0 0 1)");
   // The printed digits leave R orthonormal to ~1e-10; snap it so inverses are exact.
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = svd.matrixU() * svd.matrixV().transpose();
+  T.linear() = geometry::nearest_rotation(R);
   T.translation() = M.topRightCorner<3, 1>();
   return T;
 }

@@ -1,8 +1,7 @@
 #include "pllvo/io/image_pairs.h"
 
-#include <Eigen/SVD>
-
 #include "pllvo/common/error.h"
+#include "pllvo/geometry/pose.h"
 #include "pllvo/io/dataset_files.h"
 
 namespace pllvo::io {
@@ -30,9 +29,8 @@ Eigen::Isometry3d read_T(const TextRow& row, size_t first, const fs::path& file)
   if ((M.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-9 ||
       (R * R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-3 || R.determinant() < 0)
     throw InputError(file, row.line, "T_0to1 is not a rigid transform");
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = svd.matrixU() * svd.matrixV().transpose();
+  T.linear() = geometry::nearest_rotation(R);
   T.translation() = M.topRightCorner<3, 1>();
   return T;
 }
