@@ -132,3 +132,31 @@ TEST(LineMapper, MonocularLinesMeetTheKeyframesPlaneAngle) {
     EXPECT_LT(depth_error(*t, rects), 0.05) << "line at depth " << t->start.z() << " .. " << t->end.z();
   }
 }
+
+TEST(LineMapper, DetectionsMadeByTheTrackerGiveTheSamePlan) {
+  const std::vector<Rectangle> rects = {{-1.6, -1.0, -0.4, 0.9, 4.5, 40}, {0.3, -0.8, 1.5, 0.6, 3.0, 215}};
+  const cv::Mat image = render(rects, 0.0);
+  lines::LinesConfig config;
+  vo::LineMapper mapper(config, geometry::LineTriangulationConfig{}, rectified_camera());
+  vo::Map map;
+  const auto raw = lines::LineDetector(config.detector).detect(image);
+  // Handed-in detections still meet the cross constraint: a bundle of four segments crossing
+  // at 4-12 deg in the empty top of the image must go, the rectangles' edges stay.
+  std::vector<lines::LineSegment> cluttered = raw;
+  for (int k = 0; k < 4; ++k) {
+    const double a = 4.0 * k * M_PI / 180.0;
+    const Eigen::Vector2d c(100, 40), d(70 * std::cos(a), 70 * std::sin(a));
+    cluttered.emplace_back(c - d, c + d, 1000 + k);
+  }
+  const auto own = mapper.plan(image, geometry::Pose::Identity(), {}, nullptr, {}, map);
+  const std::vector<lines::LineSegment>* handed_in[] = {&raw, &cluttered};
+  for (const auto* given : handed_in) {
+    const auto plan = mapper.plan(image, geometry::Pose::Identity(), {}, nullptr, {}, map, {}, 0.0, std::nullopt, given);
+    ASSERT_GE(own.segments.size(), 6u);
+    ASSERT_EQ(plan.segments.size(), own.segments.size()) << given->size() << " handed in";
+    for (size_t i = 0; i < own.segments.size(); ++i) {
+      EXPECT_EQ(plan.segments[i].start, own.segments[i].start);
+      EXPECT_EQ(plan.segments[i].end, own.segments[i].end);
+    }
+  }
+}

@@ -496,7 +496,8 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
     ScopedTimer t(stats_, "kf_lines");
     line_plan = line_mapper_->plan(job.left, job.T_world_cam, job.lines, has_prev ? &prev : nullptr,
                                    point_matches_with(prev, has_prev, features, ids, previous, matches), map_,
-                                   stereo_lines ? job.right : cv::Mat(), baseline_, line_plane_angle(job, n));
+                                   stereo_lines ? job.right : cv::Mat(), baseline_, line_plane_angle(job, n),
+                                   job.line_detections ? &*job.line_detections : nullptr);
     stats_.add_sample("kf_lines", static_cast<double>(line_plan.segments.size()));
     if (stereo_lines) stats_.add_sample("kf_stereo_lines", line_plan.from_stereo);
   }

@@ -5,6 +5,7 @@
 // (stereo or two-view triangulation), and the sliding-window bundle adjustment.
 #include <map>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -42,6 +43,9 @@ struct KeyframeJob {
   std::vector<TrackedLine> lines;    ///< lines tracked into this frame
   /// Segments parallel to known directions, at the frame's pose (directions.*); empty: none.
   std::vector<backend::PoseDirectionObservation> directions;
+  /// EDLines detections of `left` the tracker made already (directions.*), before the cross
+  /// constraint; absent: the keyframe detects its lines itself.
+  std::optional<std::vector<lines::LineSegment>> line_detections;
   bool first = false;                ///< first keyframe of a map segment (stereo initialisation)
 };
 

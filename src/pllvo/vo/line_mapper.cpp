@@ -39,8 +39,9 @@ LineMapper::LineMapper(const lines::LinesConfig& lines, const geometry::LineTria
       detector_(lines.detector),
       associator_(lines.associator) {}
 
-std::vector<lines::LineSegment> LineMapper::detect(const cv::Mat& image) {
-  auto segments = detector_.detect(image);
+std::vector<lines::LineSegment> LineMapper::detect(const cv::Mat& image) { return constrain(detector_.detect(image)); }
+
+std::vector<lines::LineSegment> LineMapper::constrain(std::vector<lines::LineSegment> segments) const {
   if (config_.cross_constraint.enabled) segments = lines::apply_cross_constraint(segments, config_.cross_constraint);
   return segments;
 }
@@ -48,9 +49,10 @@ std::vector<lines::LineSegment> LineMapper::detect(const cv::Mat& image) {
 LinePlan LineMapper::plan(const cv::Mat& image, const geometry::Pose& T_world_cam,
                           const std::vector<TrackedLine>& tracked, const Keyframe* previous,
                           const std::vector<lines::PointMatch>& point_matches, const Map& map,
-                          const cv::Mat& right, double baseline, std::optional<double> min_plane_angle_deg) {
+                          const cv::Mat& right, double baseline, std::optional<double> min_plane_angle_deg,
+                          const std::vector<lines::LineSegment>* detections) {
   LinePlan plan;
-  plan.segments = detect(image);
+  plan.segments = detections ? constrain(*detections) : detect(image);
   const size_t m = plan.segments.size();
   if (config_.associator.use_descriptors && m > 0) plan.descriptors = lines::compute_lbd_descriptors(image, plan.segments);
   plan.ids.assign(m, kNoId);

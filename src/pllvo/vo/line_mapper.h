@@ -51,11 +51,13 @@ class LineMapper {
   /// `point_matches` pairs pixels of the same points in `previous` and this keyframe.
   /// With a rectified right image (`baseline` > 0), lines left without a 3-D line are matched
   /// left-right and triangulated at metric scale. `min_plane_angle_deg` replaces the
-  /// triangulation config's angle for this keyframe's two-view lines.
+  /// triangulation config's angle for this keyframe's two-view lines. `detections`: the
+  /// detector's segments of `image` when made already (the cross constraint still applies).
   LinePlan plan(const cv::Mat& image, const geometry::Pose& T_world_cam, const std::vector<TrackedLine>& tracked,
                 const Keyframe* previous, const std::vector<lines::PointMatch>& point_matches, const Map& map,
                 const cv::Mat& right = {}, double baseline = 0.0,
-                std::optional<double> min_plane_angle_deg = std::nullopt);
+                std::optional<double> min_plane_angle_deg = std::nullopt,
+                const std::vector<lines::LineSegment>* detections = nullptr);
 
   /// Stores the plan's lines in keyframe `kf` (already added with plan.segments as its lines).
   /// Returns the number of new map lines.
@@ -65,6 +67,7 @@ class LineMapper {
   std::vector<lines::LineSegment> detect(const cv::Mat& image);
 
  private:
+  std::vector<lines::LineSegment> constrain(std::vector<lines::LineSegment> segments) const;
   void triangulate_stereo(const cv::Mat& image, const cv::Mat& right, double baseline,
                           const geometry::Pose& T_world_cam, LinePlan& plan);
 

@@ -249,6 +249,7 @@ KeyframeJob Odometry::make_keyframe_job(const io::Frame& frame, const cv::Mat& l
   job.reason = reason;
   job.image_noise = frame_noise_;
   job.directions = frame_directions_;
+  if (detected_lines_ && detected_lines_frame_ == frame.index) job.line_detections = detected_lines_;
   return job;
 }
 
@@ -285,13 +286,13 @@ void Odometry::start_mono_reference(const io::Frame& frame, const cv::Mat& left,
   mono_->current = features.points;
   mono_->alive.assign(features.size(), 1);
   mono_->features = std::move(features);
-  mono_->directions = start_directions(left);
+  mono_->directions = start_directions(left, frame.index);
 }
 
-std::vector<Eigen::Vector3d> Odometry::start_directions(const cv::Mat& image) {
+std::vector<Eigen::Vector3d> Odometry::start_directions(const cv::Mat& image, size_t frame_index) {
   if (!use_directions_ || config_.geometry.two_view.vanishing_sigma_deg <= 0) return {};
   ScopedTimer t(stats_, "direction_lines");
-  return image_directions(direction_segments(image), camera_.focal(), config_.directions);
+  return image_directions(direction_segments(image, frame_index), camera_.focal(), config_.directions);
 }
 
 bool Odometry::resume_mono(const io::Frame& frame, const cv::Mat& left, const ImagePyramid& pyramid,
@@ -352,7 +353,7 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   }
   if (median_flow < config_.init.mono_min_flow_px) return false;
 
-  const geometry::ViewDirections directions{ref.directions, start_directions(left)};
+  const geometry::ViewDirections directions{ref.directions, start_directions(left, frame.index)};
   const TwoViewInit two_view = initialize_two_view(camera_, px0, px1, config_.geometry.two_view, &directions);
   if (!two_view.ok) {
     // The direction is measured only for a motion that passed the earlier checks.
@@ -614,7 +615,7 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   std::vector<DirectionSegment> dir_segments;
   if (use_directions_) {
     ScopedTimer t(stats_, "direction_lines");
-    dir_segments = direction_segments(pyramid.image);
+    dir_segments = direction_segments(pyramid.image, frame.index);
     extras.directions = direction_observations(dir_segments, T_pred_world.linear());
     extras.direction_weight = config_.directions.weight;
     stats_.add_count("direction_observations", static_cast<long long>(extras.directions.size()));
@@ -1075,11 +1076,13 @@ std::vector<TrackedLine> Odometry::track_lines(const ImagePyramid& from, const I
   return kept;
 }
 
-std::vector<DirectionSegment> Odometry::direction_segments(const cv::Mat& image) {
+std::vector<DirectionSegment> Odometry::direction_segments(const cv::Mat& image, size_t frame_index) {
   // Detected afresh in every frame: line flow loses most lines in noisy dim images (its
   // samples fail the fit), where the rotation needs them most.
+  detected_lines_ = line_detector_.detect(image);
+  detected_lines_frame_ = frame_index;
   std::vector<DirectionSegment> out;
-  for (const auto& l : line_detector_.detect(image))
+  for (const auto& l : *detected_lines_)
     out.push_back({camera_.normalised(l.start), camera_.normalised(l.end), l.length()});
   return out;
 }

@@ -92,7 +92,7 @@ class Odometry {
                          const ImagePyramid& pyramid, std::optional<DetectedKeyframe> detected, bool* relocalised);
   bool initialize_mono(const io::Frame& frame, const cv::Mat& left, const ImagePyramid& pyramid);
   /// The directions this image shows alone, for a monocular start (empty when not used).
-  std::vector<Eigen::Vector3d> start_directions(const cv::Mat& image);
+  std::vector<Eigen::Vector3d> start_directions(const cv::Mat& image, size_t frame_index);
   /// A new monocular reference at this frame; `detected`: its features when already detected.
   void start_mono_reference(const io::Frame& frame, const cv::Mat& left, std::optional<PointFeatures> detected);
   /// pose.mono_resume_max_s: the map before the loss resumes at this frame when it relocalises
@@ -166,8 +166,9 @@ class Odometry {
   void retrack_on_local_contrast(const cv::Mat& left, const std::vector<cv::Point2f>& from,
                                  const std::vector<cv::Point2f>& predicted, TrackResult& tr);
 
-  /// The lines detected in the frame as direction segments (normalised, working camera).
-  std::vector<DirectionSegment> direction_segments(const cv::Mat& image);
+  /// The lines detected in the frame (`frame_index`) as direction segments (normalised,
+  /// working camera); keeps the detections for the frame's keyframe.
+  std::vector<DirectionSegment> direction_segments(const cv::Mat& image, size_t frame_index);
   /// The segments on known directions at rotation R_cam_world (none while fewer than
   /// directions.min_known are known).
   std::vector<backend::PoseDirectionObservation> direction_observations(const std::vector<DirectionSegment>& segments,
@@ -187,6 +188,10 @@ class Odometry {
   DirectionMap directions_;            ///< world directions of the tracked lines (tracking thread)
   /// The last tracked frame's segments on known directions, at its pose (for its keyframe).
   std::vector<backend::PoseDirectionObservation> frame_directions_;
+  /// The frame whose lines direction_segments() detected last, and those detections: a keyframe
+  /// of that frame hands them to the worker, which would otherwise detect them again.
+  size_t detected_lines_frame_ = 0;
+  std::optional<std::vector<lines::LineSegment>> detected_lines_;
   KeyframePolicy policy_;
   Map map_;
   KeyframeProcessor processor_;
