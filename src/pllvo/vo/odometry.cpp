@@ -579,7 +579,9 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     const size_t mapped_before = count_mapped_lines(line_tracks_);
     const bool plain = plain_frame();
     if (plain) stats_.add_count("plain_scene_line_frames");
-    line_tracks_ = track_lines(previous_pyramid_, pyramid, line_tracks_, plain, &predicted_lines, &line_detector_);
+    const std::vector<lines::LineSegment>* detections =
+        redetect_lines_ && !line_tracks_.empty() ? &frame_lines(pyramid.image, frame.index) : nullptr;
+    line_tracks_ = track_lines(previous_pyramid_, pyramid, line_tracks_, plain, &predicted_lines, detections);
     spdlog::debug("frame {}: line flow kept {} of {} mapped lines ({} lines in all)", frame.index,
                   count_mapped_lines(line_tracks_), mapped_before, line_tracks_.size());
     if (config_.pose.use_lines) {
@@ -870,7 +872,9 @@ void Odometry::follow(const std::vector<std::pair<size_t, ImagePyramid>>& frames
         if (tr.ok[i]) next.push_back({tr.points[i], points[i].point, points[i].origin, points[i].last});
       points = std::move(next);
     }
-    if (use_lines_) lines = track_lines(from, to, lines, false, nullptr, detector ? &*detector : nullptr);
+    std::vector<lines::LineSegment> detections;
+    if (detector && !lines.empty()) detections = detector->detect(to.image);
+    if (use_lines_) lines = track_lines(from, to, lines, false, nullptr, detector ? &detections : nullptr);
   }
 }
 
@@ -1041,17 +1045,17 @@ std::vector<TrackedLine> Odometry::track_lines(const ImagePyramid& from, const I
                                                const std::vector<TrackedLine>& lines,
                                                bool plain,
                                                const std::vector<lines::LineSegment>* predicted,
-                                               lines::LineDetector* detector) const {
+                                               const std::vector<lines::LineSegment>* detected) const {
   if (lines.empty()) return {};
   std::vector<lines::LineSegment> segments;
   segments.reserve(lines.size());
   for (const auto& l : lines) segments.push_back(l.segment);
   if (redetect_lines_) {
-    if (!detector) return {};
-    auto detections = detector->detect(to.image);
+    if (!detected) return {};
     stats_.add_count("line_redetections");
-    if (config_.lines.cross_constraint.enabled)
-      detections = lines::apply_cross_constraint(detections, config_.lines.cross_constraint);
+    const std::vector<lines::LineSegment> detections =
+        config_.lines.cross_constraint.enabled ? lines::apply_cross_constraint(*detected, config_.lines.cross_constraint)
+                                               : *detected;
     const auto assignment = associate_by_position(predicted ? *predicted : segments, detections);
     std::vector<TrackedLine> kept;
     for (size_t i = 0; i < lines.size(); ++i) {
@@ -1076,13 +1080,19 @@ std::vector<TrackedLine> Odometry::track_lines(const ImagePyramid& from, const I
   return kept;
 }
 
+const std::vector<lines::LineSegment>& Odometry::frame_lines(const cv::Mat& image, size_t frame_index) {
+  if (!detected_lines_ || detected_lines_frame_ != frame_index) {
+    detected_lines_ = line_detector_.detect(image);
+    detected_lines_frame_ = frame_index;
+  }
+  return *detected_lines_;
+}
+
 std::vector<DirectionSegment> Odometry::direction_segments(const cv::Mat& image, size_t frame_index) {
   // Detected afresh in every frame: line flow loses most lines in noisy dim images (its
   // samples fail the fit), where the rotation needs them most.
-  detected_lines_ = line_detector_.detect(image);
-  detected_lines_frame_ = frame_index;
   std::vector<DirectionSegment> out;
-  for (const auto& l : *detected_lines_)
+  for (const auto& l : frame_lines(image, frame_index))
     out.push_back({camera_.normalised(l.start), camera_.normalised(l.end), l.length()});
   return out;
 }

@@ -136,10 +136,12 @@ class Odometry {
                             const geometry::Pose& T_world_ref);
   /// Follows `lines` from one pyramid to the next; drops those the tracker rejects. `plain`:
   /// a plain scene's frame (plain_scene.max_tracked_points), tracked with aperture handling.
+  /// Re-detection mode (pipeline.line_tracking: redetect): `detected` holds the detector's
+  /// segments of `to` (before the cross constraint); without them no line is kept.
   std::vector<TrackedLine> track_lines(const ImagePyramid& from, const ImagePyramid& to,
                                        const std::vector<TrackedLine>& lines, bool plain,
                                        const std::vector<lines::LineSegment>* predicted = nullptr,
-                                       lines::LineDetector* detector = nullptr) const;
+                                       const std::vector<lines::LineSegment>* detected = nullptr) const;
   /// Whether this frame follows fewer map points than plain_scene.max_tracked_points.
   bool plain_frame() const;
   void set_reference_lines(const std::vector<TrackedLine>& lines);
@@ -166,8 +168,11 @@ class Odometry {
   void retrack_on_local_contrast(const cv::Mat& left, const std::vector<cv::Point2f>& from,
                                  const std::vector<cv::Point2f>& predicted, TrackResult& tr);
 
+  /// The detector's segments of the frame's image (`frame_index`), detected once a frame:
+  /// line re-detection, the directions and the frame's keyframe share them.
+  const std::vector<lines::LineSegment>& frame_lines(const cv::Mat& image, size_t frame_index);
   /// The lines detected in the frame (`frame_index`) as direction segments (normalised,
-  /// working camera); keeps the detections for the frame's keyframe.
+  /// working camera).
   std::vector<DirectionSegment> direction_segments(const cv::Mat& image, size_t frame_index);
   /// The segments on known directions at rotation R_cam_world (none while fewer than
   /// directions.min_known are known).
@@ -188,8 +193,8 @@ class Odometry {
   DirectionMap directions_;            ///< world directions of the tracked lines (tracking thread)
   /// The last tracked frame's segments on known directions, at its pose (for its keyframe).
   std::vector<backend::PoseDirectionObservation> frame_directions_;
-  /// The frame whose lines direction_segments() detected last, and those detections: a keyframe
-  /// of that frame hands them to the worker, which would otherwise detect them again.
+  /// The frame whose lines frame_lines() detected last, and those detections: a keyframe of
+  /// that frame hands them to the worker, which would otherwise detect them again.
   size_t detected_lines_frame_ = 0;
   std::optional<std::vector<lines::LineSegment>> detected_lines_;
   KeyframePolicy policy_;
