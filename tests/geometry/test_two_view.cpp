@@ -347,7 +347,7 @@ TEST(TwoView, ScoresFollowTheChiSquareRule) {
 }
 
 namespace {
-/// One frame of a fast turn (session 26's difficult_lowlight frames 36-50): 5 deg about the
+/// One frame of a fast turn (difficult_lowlight frames 36-50): 5 deg about the
 /// vertical axis and 6 cm mostly forward, 80 points 2-6 m ahead seen in both views, 0.5 px noise.
 struct TurnStep {
   Pose T0 = Pose::Identity(), T1;

@@ -53,7 +53,7 @@ TEST(Initialisation, MonocularTwoViewRecoversRotationAndTranslationDirection) {
               kf.stamps[0] - t0, kf.stamps[1] - t0, angle_deg(gt01.linear()), gt01.translation().norm(), rot_err,
               dir_err, s.error ? s.error->percent_of_path : -1.0);
   EXPECT_GT(gt01.translation().norm(), 0.01);
-  // Measured (session 2): 0.47 deg and 14.6 deg at this half resolution. The direction is
+  // Measured: 0.47 deg and 14.6 deg at this half resolution. The direction is
   // far from the two-view's accuracy on ideal points (< 1 deg, tests/geometry); the bounds
   // catch a wrong decomposition (tens of degrees) and keep what is reached now. See docs/vo.md.
   EXPECT_LT(rot_err, 1.0);
@@ -87,14 +87,14 @@ TEST(Initialisation, StereoStartsOnTheFirstFrameAtMetricScale) {
   std::printf("[ stereo init ] first to last frame: %.4f m estimated, %.4f m true (ratio %.4f); SE3 ATE %.4f m = %.2f %%\n",
               est, truth, est / truth, s.error ? s.error->rmse_m : -1.0, s.error ? s.error->percent_of_path : -1.0);
   ASSERT_GT(truth, 0.3);
-  // Measured 0.9475 on an AMD EPYC host (session 8) and above 0.95 on CI's machine for the same
+  // Measured 0.9475 on an AMD EPYC host and above 0.95 on CI's machine for the same
   // commit: the last percent moves with the CPU's SIMD paths (OpenCV's runtime dispatch: 0.9472
   // with its AVX2 and FMA3 paths disabled). A broken baseline or rectification is off by tens of %.
   EXPECT_NEAR(est / truth, 1.0, 0.07);
   ASSERT_TRUE(s.error.has_value());
   EXPECT_EQ(s.error->align, "se3");
-  // Measured (session 2): 0.016 m = 2.2 % of 0.74 m at half the EuRoC resolution (f = 229 px);
-  // 0.025 m = 3.4 % since session 20's working view "fit" spans the whole distorted image with
+  // Measured: 0.016 m = 2.2 % of 0.74 m at half the EuRoC resolution (f = 229 px);
+  // 0.025 m = 3.4 % since the working view "fit" spans the whole distorted image with
   // f = 178 / 209 px at this resolution (docs/vo.md).
   EXPECT_LT(s.error->rmse_m, 0.032);
   EXPECT_LT(s.error->percent_of_path, 4.3);

@@ -64,7 +64,7 @@ TEST(Odometry, MonocularInitialisesAndFollowsTheKittiDrive) {
 TEST(Odometry, SingleThreadRunsRepeatWhateverElseUsesTheHeap) {
   // The single-thread mode is for tests and measurements: its result must not depend on what
   // else allocated memory before (a progress line printed on a timer, another reader). The
-  // bundle adjustment once followed the heap's placement of its blocks (docs/vo.md, session 10).
+  // bundle adjustment once followed the heap's placement of its blocks (docs/vo.md).
   const auto path = shared_path("data/kitti_04_mono51");
   RunOptions options;
   options.max_frames = 30;

@@ -117,7 +117,7 @@ TEST(Recovery, AStereoFrameThatLosesItsPoseRelocalisesAtOnce) {
   EXPECT_EQ(later.lost[0].first_frame, first);
   // Measured 0.0148 m at once against 0.0210 m after the lost frames (12 dropped; at 8 KLT
   // follows the jump, at 20 both relocalise ~0.3 m off after a 1 s jump), with the calibrated
-  // working view; 0.0225 against 0.0203 m with session 20's "fit" view, which also tracks the
+  // working view; 0.0225 against 0.0203 m with the "fit" view, which also tracks the
   // three frames the later restart loses. A wrong relocalisation is ~0.1 m off.
   ASSERT_TRUE(later.error.has_value());
   EXPECT_LT(now.error->rmse_m, 1.25 * later.error->rmse_m);
@@ -187,7 +187,7 @@ TEST(Recovery, AMonocularMapResumesAtItsScaleAfterAShortGap) {
   // Back on the first frame after the gap: every later frame has a pose.
   EXPECT_EQ(resumed.tracked_after, resumed.frames - 1 - last_black);
   // Measured 1.088. Monocular runs follow the CPU's SIMD paths in their last digits and then
-  // diverge (docs/vo.md, session 8), hence the margin; a new map's scale is unrelated (1.739 here).
+  // diverge (docs/vo.md), hence the margin; a new map's scale is unrelated (1.739 here).
   EXPECT_NEAR(resumed.scale_change, 1.0, 0.2);
   EXPECT_GT(std::abs(std::log(restarted.scale_change)), std::abs(std::log(resumed.scale_change)));
   EXPECT_LT(resumed.ate_percent, restarted.ate_percent);

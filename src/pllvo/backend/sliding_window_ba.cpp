@@ -47,7 +47,7 @@ void validate(const BaProblem& p) {
 /// the heap happened to place them, which follows earlier allocations (a progress line printed
 /// on a timer is one), and the Schur sums would change in the last bits from run to run. The
 /// monocular runs are chaotic enough that those bits move the ATE by a factor of 2
-/// (docs/vo.md, session 10).
+/// (docs/vo.md).
 class BlockState {
  public:
   explicit BlockState(const BaProblem& p, double line_weight)

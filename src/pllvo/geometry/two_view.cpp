@@ -210,7 +210,7 @@ Eigen::Vector3d hemisphere_direction(int k, int n) {
 
 /// Over a short baseline the Sampson cost has more than one valley (a sideways step passes for
 /// a forward one with a little more rotation) and a minimal-sample RANSAC winner may lie in the
-/// wrong one; a refinement from it stays there (docs/vo.md, session 30). So the motion is
+/// wrong one; a refinement from it stays there (docs/vo.md). So the motion is
 /// refined from the winner and from `config.direction_search_starts` directions spread over the
 /// sphere, and the one whose errors score best (ORB-SLAM's score, all matches) is kept, its
 /// sign chosen by cheirality. The refinements use the matches that fit either model (a wrong
@@ -501,7 +501,7 @@ TwoViewResult initialise_two_view(std::span<const Eigen::Vector2d> xy0,
   if (use_refined) out.inliers = refined_inliers;
   if (refined_is_estimate && !refined_passes) {
     // The searched (or rotation-held) motion explains the matches best; the winner's larger
-    // parallax belongs to a wrong motion (docs/vo.md, session 30), so the start waits for a
+    // parallax belongs to a wrong motion (docs/vo.md), so the start waits for a
     // longer baseline.
     out.median_parallax_deg = refined.median_parallax_deg;
     out.num_triangulated = refined_triangulated;

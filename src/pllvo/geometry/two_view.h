@@ -5,9 +5,9 @@
 // pass cheirality and reprojection checks (clearly ahead of the other candidates) wins.
 // The translation has unit length: the map scale is arbitrary. Optionally the motion is
 // searched over directions (a short baseline's cost has more than one valley) and refused when
-// its direction is too uncertain; both off by default (docs/vo.md, session 30). Directions seen
+// its direction is too uncertain; both off by default (docs/vo.md). Directions seen
 // in both views (vanishing points) can hold the rotation, so that the translation has none to
-// trade for; off by default (session 34).
+// trade for; off by default.
 #include <limits>
 #include <span>
 #include <string>
@@ -40,7 +40,7 @@ struct TwoViewConfig {
   /// short to initialise.
   double min_median_parallax_deg = 1.0;
   /// Minimum number of triangulated points, and the fraction of model inliers that the
-  /// winning candidate must explain (35 with vo's init.min_points: docs/vo.md, session 14).
+  /// winning candidate must explain (35 with vo's init.min_points: docs/vo.md).
   int min_triangulated = 35;
   double min_good_fraction = 0.9;
   /// Rejected as ambiguous when another candidate explains more than this fraction of the

@@ -38,7 +38,7 @@ void KeyframePolicy::set_reference_points(int tracked_points) { reference_points
 bool KeyframePolicy::waiting_for_parallax(const FrameTrackingState& frame) const {
   // A monocular keyframe makes map points only from candidates with parallax; made earlier,
   // it adds a view a few centimetres from the last, the window's triangulations get
-  // short-baseline and the scale drifts (docs/vo.md, session 4).
+  // short-baseline and the scale drifts (docs/vo.md).
   const auto& c = config_;
   return c.mono_min_candidate_parallax_deg > 0 && frame.candidate_parallax_deg &&
          *frame.candidate_parallax_deg < c.mono_min_candidate_parallax_deg &&

@@ -5,7 +5,7 @@
 // A job has two parts. With two stages, each part has a thread of its own: the first part of
 // the next keyframe (point detection, the network that costs most) runs while the second part
 // of this one (matching, BA) still does, so a second core is used without the OpenMP threads
-// that spin-wait on a busy machine (docs/vo.md, session 11). Parts run in submission order
+// that spin-wait on a busy machine (docs/vo.md). Parts run in submission order
 // within each stage, so second parts run in job order.
 #include <array>
 #include <condition_variable>

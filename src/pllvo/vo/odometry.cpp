@@ -1198,7 +1198,7 @@ geometry::Pose Odometry::restart_pose(size_t frame_index, double timestamp) cons
       timestamp - last_tracked_time_ > max_gap)
     return T_world_work_;
   // Only the position is carried on: over a few frames the rotation rate of a swinging camera
-  // changes more than its speed does (docs/vo.md, session 13), and the last orientation was the
+  // changes more than its speed does (docs/vo.md), and the last orientation was the
   // better guess on the measured gaps.
   geometry::Pose start = T_world_work_;
   start.translation() += static_cast<double>(frame_index - last_tracked_index_) * *gap_step_world_;

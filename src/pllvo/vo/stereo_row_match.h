@@ -2,7 +2,7 @@
 // Left-right point matches of a rectified pair, finished along the row. 2-D Lucas-Kanade
 // (PointTracker) may slide along an edge; on a near-horizontal edge a slide of a fraction of a
 // pixel in y, well inside the epipolar check, moves x by pixels, and the stereo depth is wrong
-// (docs/vo.md, session 7: ceiling-edge points of one depth got disparities of 16 to 28 px).
+// (docs/vo.md: ceiling-edge points of one depth got disparities of 16 to 28 px).
 // The rectified geometry fixes y, so x is solved in 1-D with y held at the left row, and a
 // window whose texture has too little horizontal gradient to fix x is rejected.
 #include <optional>

@@ -20,10 +20,10 @@ struct FrontendConfig {
   /// width (a door frame at the side of a plain room); "fit" shrinks the focal lengths (EuRoC:
   /// 458 -> 356 / 418 px) so the same image spans the raw image from side to side; "whole" keeps
   /// them and enlarges the image (968 x 526), slower and, threaded, 4.7-5.1 % on stereo
-  /// difficult_lowlight in two runs against 1.6-2.3 % with "fit" (docs/vo.md, session 20).
+  /// difficult_lowlight in two runs against 1.6-2.3 % with "fit" (docs/vo.md).
   std::string working_view = "fit";
   /// The same for monocular runs ("fit", one start over the suite: medium_lowlight 3.45 -> 1.02 %,
-  /// but easy_flicker 0.85 -> 4.18 % and difficult_normal 1.07 -> 6.07 %; docs/vo.md, session 20).
+  /// but easy_flicker 0.85 -> 4.18 % and difficult_normal 1.07 -> 6.07 %; docs/vo.md).
   std::string mono_working_view = "calibrated";
   int max_points = 400;      ///< per keyframe; 300-500 keeps PnP well conditioned at low cost
   /// Detection is spread over a grid so points do not cluster on one textured patch.
@@ -45,7 +45,7 @@ struct FrontendConfig {
   bool superpoint_adaptive_threshold = true;
   int superpoint_nms_radius = 4;
   /// Convolution layout (nn::SuperPointConfig::conv_layout): nchw (the official numerics) |
-  /// channels_last | mkldnn (oneDNN: detection 1.2x faster on an AVX2 host, docs/vo.md session 11).
+  /// channels_last | mkldnn (oneDNN: detection 1.2x faster on an AVX2 host, docs/vo.md).
   std::string superpoint_conv_layout = "mkldnn";
   /// CLAHE before the network. Off: on dark frames the stretched sensor noise becomes
   /// SuperPoint keypoints (medium_lowlight: ATE 11.5 % of the path with it, 2.6 % without;
@@ -57,7 +57,7 @@ struct FrontendConfig {
   /// New points whose KLT window (klt.window_px) has a structure tensor with smaller / larger
   /// eigenvalue below this are dropped: a point on a plain straight edge slides along it from
   /// frame to frame (the aperture problem), and on plain walls the detector keeps such points
-  /// (session 17: on medium_lowtexture, door-edge points moved 3-19 px against their
+  /// (on medium_lowtexture, door-edge points moved 3-19 px against their
   /// projection; threaded stereo difficult_lowlight over starts 0-3 2.12 -> 1.58 % ATE,
   /// medium_lowtexture 5.22 -> 0.57 %). 0: off.
   double min_corner_ratio = 0.1;
@@ -98,7 +98,7 @@ struct KltConfig {
   /// the gain multiplies the shot and read noise (on the undistorted working images: 4-8 on the
   /// suite's low-light sequences, <= 2.5 on all others; 11-16 on the raw frames) and the NCC check
   /// then rejects most correct tracks: on difficult_lowlight frames, 13-38 of 300 corners survive
-  /// FB + NCC raw, 63-87 after a 1.5 px blur (docs/vo.md, session 4). 0: off.
+  /// FB + NCC raw, 63-87 after a 1.5 px blur (docs/vo.md). 0: off.
   double denoise_min_noise = 6.0;
   double denoise_sigma_px = 1.5;
   /// Stereo matches (rectified pairs) are finished by a 1-D search along the row
@@ -108,7 +108,7 @@ struct KltConfig {
   double stereo_min_horizontal_share = 0.03;
   /// ... and those whose horizontal gradient energy is below this many times what the noise
   /// left in the match would give alone (stereo_row_match.h): on a faint edge, noise picks the
-  /// disparity (session 17: 20-38 % depth errors on a ceiling edge of medium_lowtexture). Off:
+  /// disparity (20-38 % depth errors on a ceiling edge of medium_lowtexture). Off:
   /// in the dark it also drops half of the usable matches, and the suite did not improve. 0: off.
   double stereo_min_signal_to_noise = 0.0;
 };
@@ -127,7 +127,7 @@ struct KeyframePolicyConfig {
   /// yet triangulated) have a median parallax below this (degrees, rotation removed), a
   /// keyframe would add no points, only another short-baseline view: the point rule waits,
   /// unless fewer than mono_min_tracked_points map points remain. 0: off, the default:
-  /// measured mixed over 4 start frames (docs/vo.md, session 5; 1.0 is the value measured).
+  /// measured mixed over 4 start frames (docs/vo.md; 1.0 is the value measured).
   double mono_min_candidate_parallax_deg = 0.0;
   int mono_min_tracked_points = 30;
   // (2) time: a keyframe at least every max_interval_s; when the back end is idle, already
@@ -141,7 +141,7 @@ struct KeyframePolicyConfig {
   double line_angle_distance_deg = 8.0;
   /// Only while the back end is idle, like the min_interval_s rule: tracking is fine when it
   /// fires, so it must not queue work behind a busy worker. Threaded easy_normal: 28 of 70
-  /// keyframes came from it, and without it the run was 1.2-1.4x faster (docs/vo.md, session 11).
+  /// keyframes came from it, and without it the run was 1.2-1.4x faster (docs/vo.md).
   bool line_trigger_when_idle = true;
   int line_min_angles = 4;  ///< sets with fewer angles say nothing about the view
 };
@@ -153,7 +153,7 @@ struct InitConfig {
   /// Features to open a monocular reference, points it must keep following, points the start
   /// must triangulate. 35, not 50: in a sparse room (medium_lowtexture, 36-49 features a frame)
   /// 50 dropped every reference before it had parallax, so the start came at frame 161 (78 now);
-  /// the other eleven sequences start where they did (docs/vo.md, session 14).
+  /// the other eleven sequences start where they did (docs/vo.md).
   int min_points = 35;
   double mono_min_flow_px = 20.0; ///< median image motion before a two-view attempt
   int max_frames = 60;            ///< give up on a reference frame after this many frames
@@ -178,7 +178,7 @@ struct PoseConfig {
   /// one; it counts as tracked, with the relocalised pose. Otherwise the frame coasts on the
   /// tracks left (lost_frames_before_reset), which sometimes gets the pose back in the same map.
   /// On easy_flicker a flicker step lost frames 154-156 in 2 of 10 threaded runs, and frame 157
-  /// relocalised at once (docs/vo.md, session 16). Counted in stats.json as
+  /// relocalised at once (docs/vo.md). Counted in stats.json as
   /// `restarts_relocalised_at_once`.
   bool stereo_restart_at_once = true;
   /// When a keyframe's points join the tracker, those whose map point projects farther than
@@ -190,7 +190,7 @@ struct PoseConfig {
   /// the pose first moves by the keyframe's bundle-adjustment correction (the motion since the
   /// keyframe kept) if that brings them closer: the adjustment moved its window as a whole, and
   /// the gate would otherwise drop the points it adjusted. Stereo medium_lowtexture lost frames
-  /// 31-34 that way at starts 2 and 3; it fires about once a run (docs/vo.md, session 21). Needs
+  /// 31-34 that way at starts 2 and 3; it fires about once a run (docs/vo.md). Needs
   /// the gate (merge_gate_px > 0).
   bool follow_keyframe_adjustment = true;
   /// When PnP / the refinement fail for want of points, a pose is still accepted from the
@@ -200,7 +200,7 @@ struct PoseConfig {
   /// room (medium_lowtexture) frames 20-35 see 5-20 points and few lines; with 10 / 5 frames
   /// 23-34 were lost, with 6 / 4 (and init.stereo_min_points 12, the working view "fit") none is.
   /// With 3 agreeing observations a frame after a 0.6 s jump kept a pose 0.1 m off instead of
-  /// relocalising (Recovery.AStereoFrameThatLosesItsPoseRelocalisesAtOnce; docs/vo.md, session 20).
+  /// relocalising (Recovery.AStereoFrameThatLosesItsPoseRelocalisesAtOnce; docs/vo.md).
   int stereo_pnp_min_inliers = 6;
   int stereo_min_inliers_with_prior = 4;
   /// After a reset, a new map started within this many seconds of the last tracked pose (and
@@ -209,7 +209,7 @@ struct PoseConfig {
   /// travelled during a short loss (0: at the last pose).
   double extrapolate_gap_max_s = 0.5;
   /// ... the velocity being the mean step over the last this many consecutive tracked frames:
-  /// one step's position is as noisy as its pose (session 17: with few points per frame, one
+  /// one step's position is as noisy as its pose (with few points per frame, one
   /// step carried a 6-frame gap 0.12 m off; 1: the last step alone).
   int extrapolate_velocity_frames = 5;
   /// A stereo map restarted after a loss first relocalises against the last keyframes before
@@ -244,7 +244,7 @@ struct PoseConfig {
   /// uncertainty comes from the widest angle between its keyframes' rays (one pixel of ray
   /// noise). A point triangulated from a short baseline then constrains the rotation but
   /// hardly the translation, which would otherwise follow its depth error. Measured mixed:
-  /// medium_lowlight within its spread, difficult_lowlight worse (docs/vo.md session 28).
+  /// medium_lowlight within its spread, difficult_lowlight worse (docs/vo.md).
   /// Pixels; 0: off.
   double mono_point_uncertainty_px = 0.0;
   /// Monocular pose: every KLT track without a map point adds its epipolar (Sampson) error
@@ -254,7 +254,7 @@ struct PoseConfig {
   /// throughout a run it was neutral in low light and worse in normal light (docs/vo.md session
   /// 28). Confined by the gates below to correcting weak starts (weight 1, 1 deg, 1.5 s,
   /// homography, noise 3) it removed the single-thread ~7 % runs but made threaded runs worse
-  /// (medium_normal start 0 0.55 -> 1.09 %, start 3 0.82 -> 7.28 %; docs/vo.md session 29). 0: off.
+  /// (medium_normal start 0 0.55 -> 1.09 %, start 3 0.82 -> 7.28 %; docs/vo.md). 0: off.
   double mono_epipolar_weight = 0.0;
   /// Each such track's epipolar error is scaled by min(1, a / this), a (degrees) being the
   /// angle its first keyframe's baseline to the predicted camera subtends at the map's median
@@ -270,12 +270,12 @@ struct PoseConfig {
   /// at 1-2 deg of parallax leaves the direction of motion ill-conditioned: the ~7 % runs of
   /// medium_normal / medium_sudden / medium_lightoff (start 3) follow one 48 deg off, which the
   /// tracks correct within ~2 s. After essential starts they were neutral on average (13 runs:
-  /// 0.88 against 0.92 %) but put easy_normal starts 0, 1 and 3 over 1 % (docs/vo.md session 29).
+  /// 0.88 against 0.92 %) but put easy_normal starts 0, 1 and 3 over 1 % (docs/vo.md).
   std::string mono_epipolar_starts = "any";
   /// ...and only on frames with less image noise than this (grey levels, after the brightness
   /// gain; 0: any frame; normal-light frames measure 0.5-2.4, low-light ones 3.3-8). Every
   /// variant measured worsened difficult_lowlight (starts 0-3 mean 5.9-8.9 against 5.2 %) and
-  /// moved medium_lowlight either way (1.96-3.83 against 2.45 %; docs/vo.md session 29).
+  /// moved medium_lowlight either way (1.96-3.83 against 2.45 %; docs/vo.md).
   double mono_epipolar_max_noise = 0.0;
 
   /// mono_epipolar_weight where the gates above let the tracks in (`seconds_since_start` of the
@@ -307,7 +307,7 @@ struct MappingConfig {
   /// Keyframe matching leaves out what KLT already connects: the new keyframe's tracked
   /// features and the previous keyframe's features they were tracked from (their matches are
   /// discarded anyway). Off: it saved ~15 % of LightGlue's time but the context those features
-  /// give LightGlue mattered on ECD (Sim3 ATE 2.60 -> 9.26 %; docs/vo.md, session 11).
+  /// give LightGlue mattered on ECD (Sim3 ATE 2.60 -> 9.26 %; docs/vo.md).
   bool match_untracked_only = false;
   double orb_ratio = 0.8;         ///< binary descriptors: Lowe ratio test
   int orb_max_hamming = 64;
@@ -318,18 +318,18 @@ struct MappingConfig {
   /// by the distance between the first two keyframes of a start
   /// (backend.bundle_adjustment.distance_gauge) instead of fixing the second one's pose, so the
   /// BA may correct a two-view start's rotation and translation direction. 0 (default): never.
-  /// Measured mixed (docs/vo.md, session 27): it removes the ~7 % runs that follow 1-degree
+  /// Measured mixed (docs/vo.md): it removes the ~7 % runs that follow 1-degree
   /// homography starts in normal light, but worsens the low-light means, the start-direction
   /// test and medium_lowtexture.
   double mono_distance_gauge_max_noise = 0;
   /// Monocular runs with lines: smallest angle between the two back-projected planes of a new
   /// 3-D line (raises geometry.line_triangulation.min_plane_angle_deg in mono). Lines
   /// triangulated from monocular keyframes at the stereo default (2 deg) pull the scale harder:
-  /// medium_lowlight mono 7.2 % at 2 deg, 4.0 % at 5 deg (docs/vo.md, session 6).
+  /// medium_lowlight mono 7.2 % at 2 deg, 4.0 % at 5 deg (docs/vo.md).
   double mono_line_min_plane_angle_deg = 5.0;
   /// Monocular runs with lines: the sliding-window BA weighs line residuals at most this much
   /// relative to points (a ceiling on backend.bundle_adjustment.line_weight in mono). Lines from
-  /// short monocular baselines otherwise pull the scale in low light (docs/vo.md, session 7).
+  /// short monocular baselines otherwise pull the scale in low light (docs/vo.md).
   double mono_ba_line_weight = 0.25;
   /// Monocular runs: new points are triangulated once the keyframes' baseline subtends
   /// geometry.point_triangulation.min_parallax_deg at the median depth of the keyframe's map
@@ -337,7 +337,7 @@ struct MappingConfig {
   /// parallax keeps the points whose noise widened their rays, so their depths are too short and
   /// the scale shrinks with every generation of points, faster in low light. Measured mixed over
   /// 26 synthetic runs (better on medium_lowlight, medium_lightoff, medium_flicker, difficult_normal;
-  /// worse on difficult_lowlight, difficult_flicker, easy_lowlight: docs/vo.md, session 8): off.
+  /// worse on difficult_lowlight, difficult_flicker, easy_lowlight: docs/vo.md): off.
   bool mono_baseline_parallax_gate = false;
   /// Under that gate, each point still needs this angle between its own rays (deg): far points
   /// with almost parallel rays get depths of pure noise.
@@ -347,11 +347,11 @@ struct MappingConfig {
   /// each, instead of the error that a frame-to-frame track adds up over its frames; a candidate
   /// that does not align within mono_align_max_shift_px (a wrong link, a track that slid) starts
   /// again from the new keyframe. Descriptor links in the dark were 16 % within 2 px of the true
-  /// geometry, KLT links 44 %; aligned, 61 % and 80 % (docs/vo.md, session 25).
+  /// geometry, KLT links 44 %; aligned, 61 % and 80 % (docs/vo.md).
   bool mono_align_to_origin = true;
   /// ...on keyframes whose image noise (grey levels) reaches this: low light (synthetic normal
   /// light 0.5-2.8, low light 4.1-9). In normal light the tracks drift little, and the dropped
-  /// links cost the plain room's sparse map more than the alignment gives (session 25). 0: always.
+  /// links cost the plain room's sparse map more than the alignment gives. 0: always.
   double mono_align_min_noise = 3.5;
   double mono_align_max_shift_px = 2.0;
   int mono_align_levels = 1;             ///< LK pyramid levels above the base for the alignment
@@ -366,10 +366,10 @@ struct PipelineConfig {
   /// the bundle adjustment, the line keyframe trigger. false: a points-only VO.
   bool lines = true;
   /// Lines also in monocular mode. With a single camera the lines are triangulated from
-  /// keyframes a few centimetres apart and pull the scale at full BA weight (sessions 4-6: off);
+  /// keyframes a few centimetres apart and pull the scale at full BA weight (measured: off);
   /// with mapping.mono_line_min_plane_angle_deg and mapping.mono_ba_line_weight they are lower
   /// than points-only on 14 of 24 synthetic mono runs (mean 2.17 against 2.35 %), and on real data
-  /// ECD keeps 57 of 149 frames instead of 34, KITTI 0.06 % instead of 0.13 % (docs/vo.md, session 7).
+  /// ECD keeps 57 of 149 frames instead of 34, KITTI 0.06 % instead of 0.13 % (docs/vo.md).
   bool lines_in_mono = true;
   /// How lines follow the camera between keyframes: `flow` (line optical flow, paper 3.1) or
   /// `redetect` (the usual baseline: lines detected in every frame and associated with the
@@ -379,7 +379,7 @@ struct PipelineConfig {
 
 /// Plain scenes (blank walls, a door, a floor edge): a handful of point features, so the few
 /// long edges there are must carry the pose. Two line options that cost accuracy where texture
-/// is rich (docs/vo.md: stereo lines session 5, aperture handling session 13; the rule session 23)
+/// is rich (docs/vo.md: stereo lines, aperture handling, the rule)
 /// act only where it is not.
 struct PlainSceneConfig {
   /// Stereo keyframes with fewer point detections than this match their lines left-right and
@@ -396,7 +396,7 @@ struct PlainSceneConfig {
   /// angle between their planes instead of mapping.mono_line_min_plane_angle_deg (0: off). In a
   /// plain room the few long edges are what the map can hold on to, and at 5 deg almost none is
   /// ever triangulated; on textured keyframes, and in low light, 2 deg lines pull the scale
-  /// (docs/vo.md, sessions 6 and 35).
+  /// (docs/vo.md).
   double mono_line_min_plane_angle_deg = 2.0;
   int mono_max_keyframe_features = 120;
 };
@@ -404,7 +404,7 @@ struct PlainSceneConfig {
 /// Known 3-D directions (vo::DirectionMap): lines that share a vanishing point in one frame
 /// become a world direction; later frames' lines parallel to it constrain the camera's
 /// rotation, which the map's points alone cannot hold on a few far points on one plane
-/// (monocular heading drift, docs/vo.md sessions 31-33).
+/// (monocular heading drift, docs/vo.md).
 struct DirectionConfig {
   bool mono = true;     ///< use them in monocular runs
   bool stereo = false;  ///< ...and in stereo runs
@@ -434,7 +434,7 @@ struct DirectionConfig {
   /// Manhattan world: a new direction is perpendicular to the known ones (three at most).
   /// Without it, parallel horizontals near the horizon fit a vanishing point anywhere along
   /// it: difficult_lowlight start 6 gathered 10 directions, one 18 deg from a known one
-  /// (docs/vo.md, session 33).
+  /// (docs/vo.md).
   bool orthogonal_only = true;
   int max_directions = 12;  ///< without orthogonal_only
 };
@@ -450,27 +450,27 @@ struct RunConfig {
   bool wait_when_starving = true;
   /// Below keyframes.min_tracked_points, so that tracking goes on with the points it has
   /// while the keyframe that the point rule asked for is processed; at that same count every
-  /// point keyframe was waited for in full (docs/vo.md, session 12).
+  /// point keyframe was waited for in full (docs/vo.md).
   int starving_points = 45;
   /// The same for monocular runs, where it replaces starving_points: a monocular map's scale
   /// lives on the points each keyframe triangulates, and a tracker that runs on while the
   /// keyframe it asked for is processed makes the next keyframes too close for parallax
   /// (ECD threaded: 47 frames tracked, 17.2 % ATE at 45; 56 frames, 2.60 % at 60, as a
-  /// single-thread run; docs/vo.md, session 15). Stereo maps get their depth from the pair.
+  /// single-thread run; docs/vo.md). Stereo maps get their depth from the pair.
   int mono_starving_points = 60;
   /// ...and on their noisy frames (noisy_frame_noise) this instead: in low light a monocular
   /// tracker waits for every keyframe in flight (no frame follows 1000 map points), so a threaded
   /// run is the single-thread run. The few keyframes it did not wait for moved threaded
   /// difficult_lowlight from a 1.97 % mean over starts 0-7 (single thread) to 2.70 %. Waiting
   /// for all costs no speed where the tracker already waited for 137-143 of ~140 keyframes
-  /// (medium and difficult low light), easy_lowlight 8.8 -> 6.0 frames/s (docs/vo.md, session 35).
+  /// (medium and difficult low light), easy_lowlight 8.8 -> 6.0 frames/s (docs/vo.md).
   int mono_noisy_starving_points = 1000;
   /// Stereo frames whose image noise reaches noisy_frame_noise (grey levels, the estimate
   /// klt.denoise_min_noise reads: the suite's normal light 0.5-2.8, its low light 4.1-9) starve below
   /// noisy_starving_points instead: each noisy track holds the pose less, and in the fast dark
   /// turns a tracker that ran on without the keyframe in flight drifted (stereo
   /// difficult_lowlight starts 0-3: 2.30 / 1.30 / 1.48 / 1.43 % at 45, 1.13 / 1.21 / 1.95 / 0.48 %
-  /// at 80, with normal-light speed untouched; docs/vo.md, session 22). Monocular runs keep
+  /// at 80, with normal-light speed untouched; docs/vo.md). Monocular runs keep
   /// mono_starving_points.
   int noisy_starving_points = 80;
   double noisy_frame_noise = 3.5;
@@ -484,7 +484,7 @@ struct RunConfig {
   /// single-thread run uses 1). Two made a quiet machine's run ~1.3x faster, but beside two
   /// busy processes OpenMP's spin-waiting made LightGlue 6.7x slower (2291 against 341 ms per
   /// keyframe) and the run 2.2x slower; libgomp's wait policy cannot be set from inside the
-  /// process (docs/vo.md, session 11). So one, unless the machine is yours alone.
+  /// process (docs/vo.md). So one, unless the machine is yours alone.
   int network_threads = 1;
   /// Threaded runs: 2 runs each keyframe's point detection (SuperPoint) on a thread of its
   /// own, beside the previous keyframe's matching and bundle adjustment; 1 runs both on one

@@ -22,7 +22,7 @@ namespace pllvo::lines {
 
 struct StereoLineMatcherConfig {
   /// On every stereo keyframe. Off by default: measured neutral to worse on the synthetic suite
-  /// (docs/vo.md, session 5); the VO turns it on for plain keyframes (VoConfig::plain_scene).
+  /// (docs/vo.md); the VO turns it on for plain keyframes (VoConfig::plain_scene).
   bool enabled = false;
   double max_angle_deg = 3.0;                   ///< orientation difference (rectified: ~0)
   double min_angle_from_horizontal_deg = 15.0;  ///< flatter lines have no usable disparity
