@@ -31,6 +31,8 @@ struct RunArgs {
   bool report = false;
   size_t report_frames = 4;
   bool view = false;
+  bool realtime = false;
+  double speed = 1.0;
 };
 
 void run(const RunArgs& a) {
@@ -51,6 +53,8 @@ void run(const RunArgs& a) {
   run_options.stereo = !a.mono;
   run_options.first_frame = a.first;
   run_options.max_frames = a.max_frames;
+  run_options.realtime = a.realtime;
+  run_options.speed = a.speed;
   run_options.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   // Only built when asked for: a headless run never opens a window.
   std::unique_ptr<report::LiveViewer> viewer;
@@ -73,6 +77,13 @@ void run(const RunArgs& a) {
   for (const auto& l : s.lost)
     std::printf("  not tracked: frames %zu-%zu (t %.3f-%.3f s)\n", l.first_frame, l.last_frame, l.first_time,
                 l.last_time);
+  if (s.live)
+    std::printf("realtime at %.2fx: %zu of %zu frames dropped (%.1f %%), latency mean %.0f ms, p95 %.0f ms, max %.0f ms, "
+                "%lld keyframes requested while the worker was busy\n",
+                s.live->speed, s.live->dropped_frames.size(), s.frames,
+                s.frames ? 100.0 * s.live->dropped_frames.size() / s.frames : 0.0, 1e3 * s.live->latency_mean_s,
+                1e3 * s.live->latency_p95_s, 1e3 * s.live->latency_max_s,
+                s.stats["realtime"]["keyframes_requested_while_busy"].get<long long>());
   std::printf("estimated path %.3f, largest distance from the start %.4f (%s)\n", s.path_length,
               s.max_displacement, s.stereo ? "metres" : "map units");
   if (s.error) {
@@ -107,6 +118,11 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--max-frames", args->max_frames, "process at most this many frames (0: all)");
   cmd->add_flag("--report", args->report, "also write DIR/report.html (plots, timing, annotated frames)");
   cmd->add_option("--report-frames", args->report_frames, "annotated frames in the report (default 4)");
+  cmd->add_flag("--realtime", args->realtime,
+                "live-rate playback: frames arrive at their timestamps, the tracker never waits for the keyframe "
+                "worker, frames that arrive while it is busy are dropped (counted in stats.json)");
+  cmd->add_option("--speed", args->speed, "playback speed factor for --realtime (default 1)")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("--view", args->view, "live window with the tracked points and lines (needs a display)");
   cmd->callback([args] { run(*args); });
 }

@@ -486,6 +486,9 @@ bool Odometry::track_or_restart(const io::Frame& frame, const cv::Mat& left, con
     // so the map is only given up for a restart that this frame places in it. The start
     // below reuses the features detected for the try.
     if (config_.pose.relocalise_min_inliers <= 0) return false;
+    // Live input (run.wait_when_starving off) never waits: the try is made on a later frame
+    // that finds the worker idle.
+    if (!config_.run.wait_when_starving && !worker_.idle()) return false;
     worker_.wait_idle();
     worker_.rethrow_if_failed();
     const KeyframeJob job = make_keyframe_job(frame, left, right, pyramid, KeyframeReason::kNone);
@@ -763,6 +766,7 @@ void Odometry::maybe_make_keyframe(const io::Frame& frame, const cv::Mat& left, 
   state.candidate_parallax_deg = candidate_parallax_deg();
   const KeyframeReason reason = policy_.decide(state);
   if (reason == KeyframeReason::kNone) return;
+  if (!worker_.idle()) stats_.add_count("keyframes_requested_while_busy");
   if (worker_.pending() >= kMaxPendingKeyframes) {
     const bool degrading = reason == KeyframeReason::kFewPoints || reason == KeyframeReason::kTrackingQuality;
     if (!(degrading && config_.run.wait_when_starving)) {

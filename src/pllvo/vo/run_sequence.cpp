@@ -9,6 +9,7 @@
 #include "pllvo/common/error.h"
 #include "pllvo/eval/eval_error.h"
 #include "pllvo/eval/evaluator.h"
+#include "pllvo/vo/live_playback.h"
 #include "pllvo/vo/odometry.h"
 
 namespace pllvo::vo {
@@ -85,7 +86,7 @@ namespace {
 /// OpenCV on one thread for the run, restored after it. The single-thread mode is for
 /// repeatable runs, and OpenCV's own worker threads made two runs of the same binary differ
 /// (measured: ORB stereo, 80 frames, first difference at frame 49 with OpenCV's threads, none
-/// without; docs/vo.md, session 6).
+/// without; docs/vo.md).
 class OpenCvThreadsForRun {
  public:
   explicit OpenCvThreadsForRun(bool single) : previous_(cv::getNumThreads()), single_(single) {
@@ -112,33 +113,59 @@ RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, co
   const size_t end = options.max_frames == 0 ? sequence.size()
                                              : std::min(sequence.size(), options.first_frame + options.max_frames);
   const OpenCvThreadsForRun opencv_threads(!config.run.threaded);
+  VoConfig run_config = config;
+  // A live camera does not wait: the tracker must never block on the keyframe worker.
+  if (options.realtime) run_config.run.wait_when_starving = false;
   RunStats stats;
   const bool stereo = options.stereo && sequence.calibration().stereo();
-  Odometry odometry(config, sequence.calibration(), stereo, stats);
+  Odometry odometry(run_config, sequence.calibration(), stereo, stats);
 
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   auto last_progress = start;
-  for (size_t i = options.first_frame; i < end; ++i) {
-    io::Frame frame;
-    {
-      ScopedTimer t(stats, "load");
-      frame = sequence.frame(i);
-      frame.index = i;
-    }
+  size_t done = 0;
+  const auto track = [&](io::Frame& frame) {
     odometry.process(frame);
+    ++done;
     if (options.on_frame) options.on_frame(odometry.tracking_view());
     const auto now = clock::now();
     if (options.progress && config.run.progress_interval_s > 0 &&
         std::chrono::duration<double>(now - last_progress).count() >= config.run.progress_interval_s) {
       last_progress = now;
       const double elapsed = std::chrono::duration<double>(now - start).count();
-      const size_t done = i + 1 - options.first_frame;
       char line[256];
-      std::snprintf(line, sizeof line, "frame %zu/%zu  %.1f fps  tracked %lld  keyframes %lld  resets %d", done,
-                    end - options.first_frame, done / elapsed, stats.count("tracked_frames"),
-                    stats.count("keyframes"), odometry.resets());
+      std::snprintf(line, sizeof line, "frame %zu/%zu  %.1f fps  tracked %lld  keyframes %lld  resets %d",
+                    frame.index + 1 - options.first_frame, end - options.first_frame, done / elapsed,
+                    stats.count("tracked_frames"), stats.count("keyframes"), odometry.resets());
       options.progress(line);
+    }
+  };
+  const auto load = [&](size_t i) {
+    io::Frame frame = sequence.frame(i);
+    frame.index = i;
+    return frame;
+  };
+  std::optional<LiveRunStats> live;
+  if (options.realtime) {
+    LivePlaybackConfig playback_config;
+    playback_config.speed = options.speed;
+    const LivePlaybackResult played =
+        LivePlayback(playback_config).play(options.first_frame, end, sequence.timestamps(), load, track);
+    live.emplace();
+    live->speed = options.speed;
+    live->dropped_frames = played.dropped;
+    const LatencySummary latency = summarize_latency(played.latency_s);
+    live->latency_mean_s = latency.mean;
+    live->latency_p95_s = latency.p95;
+    live->latency_max_s = latency.max;
+  } else {
+    for (size_t i = options.first_frame; i < end; ++i) {
+      io::Frame frame;
+      {
+        ScopedTimer t(stats, "load");
+        frame = load(i);
+      }
+      track(frame);
     }
   }
   odometry.finish();
@@ -195,9 +222,24 @@ RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, co
                              {"path_length_m", e.path_length_m}, {"ate_percent_of_path", e.percent_of_path},
                              {"scale", e.scale}, {"collinear_reference", e.collinear_reference}};
   }
+  if (live) {
+    nlohmann::json dropped = nlohmann::json::array();
+    for (size_t f : live->dropped_frames) dropped.push_back(f);
+    j["realtime"] = {{"speed", live->speed},
+                     {"frames_dropped", live->dropped_frames.size()},
+                     {"dropped_frames", dropped},
+                     {"latency_mean_ms", 1e3 * live->latency_mean_s},
+                     {"latency_p95_ms", 1e3 * live->latency_p95_s},
+                     {"latency_max_ms", 1e3 * live->latency_max_s},
+                     {"keyframes_requested_while_busy", stats.count("keyframes_requested_while_busy")}};
+  }
+  summary.live = live;
   summary.stats = j;
 
   for (const auto& l : summary.lost) spdlog::warn("not tracked: {}", describe(l));
+  if (summary.live && !summary.live->dropped_frames.empty())
+    spdlog::warn("dropped (arrived while the tracker was busy): {} of {} frames", summary.live->dropped_frames.size(),
+                 summary.frames);
 
   if (!options.out_dir.empty()) {
     write_trajectory_tum(summary.trajectory, options.out_dir / "trajectory.tum");

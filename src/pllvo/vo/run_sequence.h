@@ -23,6 +23,18 @@ struct RunOptions {
   std::function<void(const std::string&)> progress;
   /// Called after every frame with the tracker's view of it (live viewer, report frames).
   std::function<void(const TrackingView&)> on_frame;
+  /// Live-rate playback (LivePlayback): frames arrive at their timestamps / `speed` and the
+  /// tracker never waits for the keyframe worker; a frame that arrives while the previous one
+  /// still waits for the tracker is dropped. Off: every frame is processed, as fast as it can be.
+  bool realtime = false;
+  double speed = 1.0;
+};
+
+/// Live-rate playback's measurements (RunSummary::live, stats.json "realtime").
+struct LiveRunStats {
+  double speed = 1.0;
+  std::vector<size_t> dropped_frames;
+  double latency_mean_s = 0, latency_p95_s = 0, latency_max_s = 0;
 };
 
 /// Absolute trajectory error against the sequence's ground truth (evo's APE, translation).
@@ -57,6 +69,7 @@ struct RunSummary {
   double max_displacement = 0; ///< largest distance from the first tracked pose
   nlohmann::json stats;       ///< what stats.json holds
   std::optional<TrajectoryError> error;  ///< when the sequence has ground truth
+  std::optional<LiveRunStats> live;      ///< realtime runs
 };
 
 RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, const RunOptions& options);

@@ -1,0 +1,128 @@
+#include "pllvo/vo/live_playback.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "pllvo/common/error.h"
+
+namespace pllvo::vo {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// The driver's one-frame queue: put() replaces a frame nobody took yet.
+class FrameSlot {
+ public:
+  /// Returns the index of the frame it replaced, if any.
+  std::optional<size_t> put(io::Frame frame, Clock::time_point arrival) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::optional<size_t> replaced;
+    if (frame_) replaced = frame_->index;
+    frame_ = std::move(frame);
+    arrival_ = arrival;
+    ready_.notify_one();
+    return replaced;
+  }
+  void close() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    closed_ = true;
+    ready_.notify_one();
+  }
+  /// Blocks for the next frame; nullopt once closed and empty.
+  std::optional<std::pair<io::Frame, Clock::time_point>> take() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    ready_.wait(lock, [&] { return frame_.has_value() || closed_; });
+    if (!frame_) return std::nullopt;
+    std::pair<io::Frame, Clock::time_point> out{std::move(*frame_), arrival_};
+    frame_.reset();
+    return out;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable ready_;
+  std::optional<io::Frame> frame_;
+  Clock::time_point arrival_;
+  bool closed_ = false;
+};
+
+}  // namespace
+
+LivePlayback::LivePlayback(LivePlaybackConfig config) : config_(config) {
+  if (!(config_.speed > 0) || !std::isfinite(config_.speed))
+    throw InputError("playback speed must be a positive number (got " + std::to_string(config_.speed) + ")");
+}
+
+LivePlaybackResult LivePlayback::play(size_t first, size_t end, const std::vector<double>& stamps, const Load& load,
+                                      const Consume& consume) const {
+  LivePlaybackResult result;
+  if (first >= end) return result;
+  if (end > stamps.size()) throw InputError("playback: frame range past the timestamps");
+  FrameSlot slot;
+  std::mutex dropped_mutex;
+  std::exception_ptr source_failure;
+  std::atomic<bool> stop{false};
+  const Clock::time_point start = Clock::now();
+  const double t0 = stamps[first];
+
+  std::thread source([&] {
+    try {
+      for (size_t i = first; i < end && !stop; ++i) {
+        io::Frame frame = load(i);
+        const auto due = start + std::chrono::duration_cast<Clock::duration>(
+                                     std::chrono::duration<double>((stamps[i] - t0) / config_.speed));
+        std::this_thread::sleep_until(due);
+        const auto replaced = slot.put(std::move(frame), std::max(due, Clock::now()));
+        if (replaced) {
+          std::lock_guard<std::mutex> lock(dropped_mutex);
+          result.dropped.push_back(*replaced);
+        }
+      }
+    } catch (...) {
+      source_failure = std::current_exception();
+    }
+    slot.close();
+  });
+
+  std::exception_ptr consumer_failure;
+  try {
+    while (auto item = slot.take()) {
+      consume(item->first);
+      result.consumed.push_back(item->first.index);
+      result.latency_s.push_back(std::chrono::duration<double>(Clock::now() - item->second).count());
+    }
+  } catch (...) {
+    consumer_failure = std::current_exception();
+    stop = true;
+    while (slot.take()) {
+    }  // let the source finish its current frame and close
+  }
+  source.join();
+  result.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  if (consumer_failure) std::rethrow_exception(consumer_failure);
+  if (source_failure) std::rethrow_exception(source_failure);
+  std::sort(result.dropped.begin(), result.dropped.end());
+  return result;
+}
+
+LatencySummary summarize_latency(std::vector<double> values) {
+  LatencySummary s;
+  if (values.empty()) return s;
+  std::sort(values.begin(), values.end());
+  double sum = 0;
+  for (double v : values) sum += v;
+  s.mean = sum / static_cast<double>(values.size());
+  const size_t k = static_cast<size_t>(std::ceil(0.95 * static_cast<double>(values.size()))) - 1;
+  s.p95 = values[std::min(k, values.size() - 1)];
+  s.max = values.back();
+  return s;
+}
+
+}  // namespace pllvo::vo
