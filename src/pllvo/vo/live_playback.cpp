@@ -66,7 +66,6 @@ LivePlaybackResult LivePlayback::play(size_t first, size_t end, const std::vecto
   if (first >= end) return result;
   if (end > stamps.size()) throw InputError("playback: frame range past the timestamps");
   FrameSlot slot;
-  std::mutex dropped_mutex;
   std::exception_ptr source_failure;
   std::atomic<bool> stop{false};
   const Clock::time_point start = Clock::now();
@@ -80,10 +79,8 @@ LivePlaybackResult LivePlayback::play(size_t first, size_t end, const std::vecto
                                      std::chrono::duration<double>((stamps[i] - t0) / config_.speed));
         std::this_thread::sleep_until(due);
         const auto replaced = slot.put(std::move(frame), std::max(due, Clock::now()));
-        if (replaced) {
-          std::lock_guard<std::mutex> lock(dropped_mutex);
-          result.dropped.push_back(*replaced);
-        }
+        // Only this thread writes `dropped`; the caller reads it after the join.
+        if (replaced) result.dropped.push_back(*replaced);
       }
     } catch (...) {
       source_failure = std::current_exception();

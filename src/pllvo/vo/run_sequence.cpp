@@ -223,11 +223,9 @@ RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, co
                              {"scale", e.scale}, {"collinear_reference", e.collinear_reference}};
   }
   if (live) {
-    nlohmann::json dropped = nlohmann::json::array();
-    for (size_t f : live->dropped_frames) dropped.push_back(f);
     j["realtime"] = {{"speed", live->speed},
                      {"frames_dropped", live->dropped_frames.size()},
-                     {"dropped_frames", dropped},
+                     {"dropped_frames", live->dropped_frames},
                      {"latency_mean_ms", 1e3 * live->latency_mean_s},
                      {"latency_p95_ms", 1e3 * live->latency_p95_s},
                      {"latency_max_ms", 1e3 * live->latency_max_s},
