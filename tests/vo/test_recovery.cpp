@@ -42,7 +42,7 @@ TEST(Recovery, BlackFramesAreAGapAndTrackingResumesAccurately) {
               e->path_length_m);
   EXPECT_GT(e->path_length_m, 0.3);
   // Half the EuRoC resolution (f = 229 px): 2-3 cm is this camera's accuracy on easy motion
-  // (measured 2.1 cm / 2.4 % on the accuracy branch, 2.7 cm / 3.2 % after the session-2 merge).
+  // (measured 2.1 cm / 2.4 % on the accuracy branch, 2.7 cm / 3.2 % after the branches were merged).
   EXPECT_LT(e->rmse_m, 0.04);
   EXPECT_LT(e->percent_of_path, 4.5);
 }
