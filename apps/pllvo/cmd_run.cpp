@@ -81,8 +81,8 @@ void run(const RunArgs& a) {
     std::printf("realtime at %.2fx: %zu of %zu frames dropped (%.1f %%), latency mean %.0f ms, p95 %.0f ms, max %.0f ms, "
                 "%lld keyframes requested while the worker was busy\n",
                 s.live->speed, s.live->dropped_frames.size(), s.frames,
-                s.frames ? 100.0 * s.live->dropped_frames.size() / s.frames : 0.0, 1e3 * s.live->latency_mean_s,
-                1e3 * s.live->latency_p95_s, 1e3 * s.live->latency_max_s,
+                s.frames ? 100.0 * s.live->dropped_frames.size() / s.frames : 0.0, 1e3 * s.live->latency_s.mean,
+                1e3 * s.live->latency_s.p95, 1e3 * s.live->latency_s.max,
                 s.stats["realtime"]["keyframes_requested_while_busy"].get<long long>());
   std::printf("estimated path %.3f, largest distance from the start %.4f (%s)\n", s.path_length,
               s.max_displacement, s.stereo ? "metres" : "map units");

@@ -126,6 +126,36 @@ TEST(BaCosts, PointCostAnalyticMatchesAutodiffAndNumeric) {
   }
 }
 
+TEST(BaCosts, StereoOffsetCostAddsTheOffsetToXAndPassesTheInnerJacobians) {
+  const auto scene = make_scene(2, 10, 0, 63);
+  const auto pose = pose_block(scene.T_world_cam[1]);
+  for (const auto& p : scene.points) {
+    Eigen::Vector2d xy;
+    ASSERT_TRUE(observe(scene.T_world_cam[1] * kRight.inverse(), p, xy));
+    const PointReprojectionCost plain(xy, kRight, kFocal);
+    const StereoOffsetPointCost shifted(new PointReprojectionCost(xy, kRight, kFocal));
+    const double offset = 0.7;
+    const double* params[3] = {pose.data(), p.data(), &offset};
+    Eigen::Vector2d r;
+    Eigen::Matrix<double, 2, 7, Eigen::RowMajor> J_pose;
+    Eigen::Matrix<double, 2, 3, Eigen::RowMajor> J_point;
+    Eigen::Vector2d J_offset;
+    double* jac[3] = {J_pose.data(), J_point.data(), J_offset.data()};
+    ASSERT_TRUE(shifted.Evaluate(params, r.data(), jac));
+    const Evaluated e = evaluate(plain, pose.data(), p.data(), 3);
+    EXPECT_NEAR(r.x(), e.r.x() + offset, 1e-12);
+    EXPECT_NEAR(r.y(), e.r.y(), 1e-12);
+    EXPECT_LT((J_pose - e.J_pose).norm(), 1e-12);
+    EXPECT_LT((J_point - e.J_landmark).norm(), 1e-12);
+    EXPECT_EQ(J_offset, Eigen::Vector2d(1, 0));
+    // Some Jacobians asked for, others not (Ceres passes null for constant blocks).
+    double* only_offset[3] = {nullptr, nullptr, J_offset.data()};
+    J_offset.setZero();
+    ASSERT_TRUE(shifted.Evaluate(params, r.data(), only_offset));
+    EXPECT_EQ(J_offset, Eigen::Vector2d(1, 0));
+  }
+}
+
 TEST(BaCosts, LineCostAnalyticMatchesAutodiffAndNumeric) {
   const auto scene = make_scene(3, 0, 20, 63);
   std::mt19937 rng(64);

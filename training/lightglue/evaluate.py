@@ -1,4 +1,4 @@
-"""Held-out benchmark of pllvo's LightGlue against mutual nearest neighbours (issue 8's "done when"), both on
+"""Held-out benchmark of pllvo's LightGlue against mutual nearest neighbours, both on
 the same SuperPoint keypoints and descriptors, in one run:
 
 * synth: pairs of frames of held-out `pllvo synth` sequences (other scenes than training: the suite's seed)

@@ -1,5 +1,5 @@
-"""Side-by-side benchmark of SuperPoint weights against OpenCV ORB, SIFT and Shi-Tomasi + ORB (issue 11's
-"done when"), in one run:
+"""Side-by-side benchmark of SuperPoint weights against OpenCV ORB, SIFT and Shi-Tomasi + ORB, in one
+run:
 
 * Homography benchmark (HPatches-style) on held-out real images: each image and a copy warped by a random
   homography, both with their own photometric change; "normal" (mild brightness / contrast / gamma / noise)

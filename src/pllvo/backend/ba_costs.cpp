@@ -128,6 +128,14 @@ bool LineReprojectionCost::Evaluate(double const* const* parameters, double* res
   return true;
 }
 
+bool StereoOffsetPointCost::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const {
+  double* inner_jacobians[2] = {jacobians ? jacobians[0] : nullptr, jacobians ? jacobians[1] : nullptr};
+  if (!inner_->Evaluate(parameters, residuals, jacobians ? inner_jacobians : nullptr)) return false;
+  residuals[0] += parameters[2][0];
+  if (jacobians && jacobians[2]) jacobians[2][0] = 1, jacobians[2][1] = 0;
+  return true;
+}
+
 ceres::CostFunction* new_point_cost(const Eigen::Vector2d& xy, const Pose& T_cam_cam0, double scale, bool autodiff) {
   if (!autodiff) return new PointReprojectionCost(xy, T_cam_cam0, scale);
   return new ceres::AutoDiffCostFunction<PointReprojectionFunctor, 2, kPoseBlockSize, kPointBlockSize>(
@@ -139,6 +147,23 @@ ceres::CostFunction* new_line_cost(const Eigen::Vector3d& line, const Pose& T_ca
   return new ceres::AutoDiffCostFunction<LineReprojectionFunctor, 2, kPoseBlockSize, kLineBlockSize>(
       new LineReprojectionFunctor{line, T_cam_cam0, scale});
 }
+
+namespace {
+class OffsetPriorCost final : public ceres::SizedCostFunction<1, 1> {
+ public:
+  explicit OffsetPriorCost(double sigma_px) : sigma_px_(sigma_px) {}
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    residuals[0] = parameters[0][0] / sigma_px_;
+    if (jacobians && jacobians[0]) jacobians[0][0] = 1 / sigma_px_;
+    return true;
+  }
+
+ private:
+  double sigma_px_;
+};
+}  // namespace
+
+ceres::CostFunction* new_offset_prior_cost(double sigma_px) { return new OffsetPriorCost(sigma_px); }
 
 ceres::CostFunction* new_distance_cost(const Eigen::Vector3d& reference, double distance) {
   return new ceres::AutoDiffCostFunction<DistanceGaugeFunctor, 1, kPoseBlockSize>(

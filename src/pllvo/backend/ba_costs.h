@@ -18,6 +18,8 @@
 #include <ceres/manifold.h>
 #include <ceres/sized_cost_function.h>
 
+#include <memory>
+
 #include <Eigen/Geometry>
 
 #include "pllvo/geometry/pose.h"
@@ -143,10 +145,23 @@ struct DistanceGaugeFunctor {
   static constexpr double kDistanceGaugeWeight = 100;
 };
 
+/// A right-camera point residual with the rectified pair's horizontal offset (pixels, a
+/// 1-parameter block) added to its x: blocks pose, point, offset. Wraps `inner` (owned).
+class StereoOffsetPointCost final : public ceres::SizedCostFunction<2, kPoseBlockSize, kPointBlockSize, 1> {
+ public:
+  explicit StereoOffsetPointCost(ceres::CostFunction* inner) : inner_(inner) {}
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
+
+ private:
+  std::unique_ptr<ceres::CostFunction> inner_;
+};
+
 /// Cost functions, analytic or automatic differentiation (caller owns).
 ceres::CostFunction* new_point_cost(const Eigen::Vector2d& xy, const Pose& T_cam_cam0, double scale, bool autodiff);
 ceres::CostFunction* new_line_cost(const Eigen::Vector3d& line, const Pose& T_cam_cam0, double scale, bool autodiff);
 ceres::CostFunction* new_distance_cost(const Eigen::Vector3d& reference, double distance);
+/// Zero-mean prior on the 1-parameter stereo offset block: residual offset / sigma_px.
+ceres::CostFunction* new_offset_prior_cost(double sigma_px);
 
 /// Vanishing-point error (geometry::vanishing_residual, times `scale`) of a segment seen
 /// parallel to `direction_world`, on the keyframe pose block alone.

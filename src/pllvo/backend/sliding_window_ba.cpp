@@ -55,7 +55,9 @@ class BlockState {
         line_scale_(p.focal_px * line_weight),
         points_at_(kPoseBlockSize * p.keyframes.size()),
         lines_at_(points_at_ + kPointBlockSize * p.points.size()),
-        storage_(lines_at_ + kLineBlockSize * p.lines.size()) {
+        offset_at_(lines_at_ + kLineBlockSize * p.lines.size()),
+        storage_(offset_at_ + 1) {
+    storage_[offset_at_] = p.stereo_offset_px;
     for (size_t i = 0; i < p.keyframes.size(); ++i) pose_to_block(p.keyframes[i].T_world_cam.inverse(), pose(i));
     for (size_t i = 0; i < p.points.size(); ++i) Eigen::Map<Eigen::Vector3d>(point(i)) = p.points[i].p_world;
     for (size_t i = 0; i < p.lines.size(); ++i) {
@@ -70,6 +72,9 @@ class BlockState {
   const double* pose(size_t i) const { return storage_.data() + kPoseBlockSize * i; }
   const double* point(size_t i) const { return storage_.data() + points_at_ + kPointBlockSize * i; }
   const double* line(size_t i) const { return storage_.data() + lines_at_ + kLineBlockSize * i; }
+  /// The rectified pair's horizontal offset (pixels), added to camera > 0 residuals.
+  double* offset() { return storage_.data() + offset_at_; }
+  double offset_value() const { return storage_[offset_at_]; }
 
   const Pose& extrinsic(int camera) const {
     return problem_.T_cam_cam0.empty() ? identity_ : problem_.T_cam_cam0[camera];
@@ -80,6 +85,7 @@ class BlockState {
     const double* params[2] = {pose(o.keyframe), point(o.point)};
     double r[2];
     if (!PointReprojectionCost(o.xy, extrinsic(o.camera), problem_.focal_px).Evaluate(params, r, nullptr)) return NAN;
+    if (o.camera > 0) r[0] += offset_value();
     return std::hypot(r[0], r[1]);
   }
 
@@ -93,7 +99,7 @@ class BlockState {
  private:
   const BaProblem& problem_;
   double line_scale_;
-  size_t points_at_, lines_at_;
+  size_t points_at_, lines_at_, offset_at_;
   std::vector<double> storage_;
   const Pose identity_ = Pose::Identity();
 };
@@ -133,10 +139,13 @@ void BundleAdjustmentConfig::load(const ConfigNode& node) {
   node.get("function_tolerance", function_tolerance);
   node.get("max_solver_time_s", max_solver_time_s);
   node.get("num_threads", num_threads);
+  node.get("stereo_offset_sigma_px", stereo_offset_sigma_px);
   geometry::get_choice(node, "jacobians", jacobians, kJacobianChoices);
   geometry::get_choice(node, "linear_solver", linear_solver, kSolverChoices);
   if (window_size < 1) throw InputError(node.file(), node.path("window_size"), "must be at least 1");
   if (num_threads < 1) throw InputError(node.file(), node.path("num_threads"), "must be at least 1");
+  if (!(stereo_offset_sigma_px >= 0))
+    throw InputError(node.file(), node.path("stereo_offset_sigma_px"), "must be 0 or more");
   node.reject_unknown_keys();
 }
 
@@ -186,13 +195,22 @@ BaSummary SlidingWindowBA::optimize(BaProblem& P) const {
   std::vector<double> initial_point_error(P.point_observations.size()), initial_line_error(P.line_observations.size());
   std::vector<ceres::ResidualBlockId> point_ids(P.point_observations.size(), nullptr);
   std::vector<ceres::ResidualBlockId> line_ids(P.line_observations.size(), nullptr);
+  // The offset enters only when it is estimated or not zero: otherwise the problem is the plain one.
+  const bool with_offset = config_.stereo_offset_sigma_px > 0 || P.stereo_offset_px != 0;
   for (size_t j = 0; j < P.point_observations.size(); ++j) {
     const auto& o = P.point_observations[j];
     initial_point_error[j] = state.point_error(o);
     if (!std::isfinite(initial_point_error[j])) continue;
-    point_ids[j] = problem.AddResidualBlock(new_point_cost(o.xy, state.extrinsic(o.camera), P.focal_px, autodiff),
-                                            point_loss, state.pose(o.keyframe), state.point(o.point));
+    ceres::CostFunction* cost = new_point_cost(o.xy, state.extrinsic(o.camera), P.focal_px, autodiff);
+    if (o.camera > 0 && with_offset)
+      point_ids[j] = problem.AddResidualBlock(new StereoOffsetPointCost(cost), point_loss, state.pose(o.keyframe),
+                                              state.point(o.point), state.offset());
+    else
+      point_ids[j] = problem.AddResidualBlock(cost, point_loss, state.pose(o.keyframe), state.point(o.point));
   }
+  const bool offset_free = with_offset && config_.stereo_offset_sigma_px > 0 && problem.HasParameterBlock(state.offset());
+  if (offset_free)
+    problem.AddResidualBlock(new_offset_prior_cost(config_.stereo_offset_sigma_px), nullptr, state.offset());
   for (size_t j = 0; j < P.line_observations.size(); ++j) {
     const auto& o = P.line_observations[j];
     initial_line_error[j] = state.line_error(o);
@@ -227,6 +245,10 @@ BaSummary SlidingWindowBA::optimize(BaProblem& P) const {
     else ++S.num_free_keyframes;
   }
   if (!pose_manifold_used) delete pose_manifold;
+  if (problem.HasParameterBlock(state.offset())) {
+    ordering->AddElementToGroup(state.offset(), 1);
+    if (!offset_free) problem.SetParameterBlockConstant(state.offset());
+  }
   const auto [reference, moving] = distance_gauge_pair(P);
   if (moving >= 0 && problem.HasParameterBlock(state.pose(moving))) {
     const Eigen::Vector3d c_ref = P.keyframes[reference].T_world_cam.translation();
@@ -305,6 +327,7 @@ BaSummary SlidingWindowBA::optimize(BaProblem& P) const {
         P.lines[i].segment_world.start = Eigen::Map<const Eigen::Vector3d>(state.line(i));
         P.lines[i].segment_world.end = Eigen::Map<const Eigen::Vector3d>(state.line(i) + 3);
       }
+    if (offset_free) P.stereo_offset_px = *state.offset();
   }
 
   // Outliers from the values now in `P` (the initial ones when the solve failed).

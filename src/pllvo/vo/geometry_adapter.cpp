@@ -227,12 +227,14 @@ std::optional<Eigen::Vector3d> triangulate_stereo(const Pinhole& cam, double bas
 
 WindowBaResult bundle_adjust_window(Map& map, const Pinhole& cam, double baseline, const std::vector<Id>& window,
                                     int max_anchors, const backend::BundleAdjustmentConfig& config,
-                                    double direction_weight) {
+                                    double direction_weight, double stereo_offset_px) {
   WindowBaResult result;
+  result.stereo_offset_px = stereo_offset_px;
   if (window.size() < 2) return result;
   backend::BaProblem problem;
   problem.focal_px = cam.focal();
   if (baseline > 0) problem.T_cam_cam0 = {geometry::Pose::Identity(), T_left_right(baseline).inverse()};
+  problem.stereo_offset_px = stereo_offset_px;
   std::vector<Id> keyframes, points, lines;
   std::vector<Observation> point_refs, line_refs;  // (keyframe, feature/line index) per observation
 
@@ -312,6 +314,7 @@ WindowBaResult bundle_adjust_window(Map& map, const Pinhole& cam, double baselin
   result.final_rms_px = summary.final_rms_px;
   result.solve_ms = summary.solve_time_s * 1e3;
   if (!summary.ok) return result;
+  result.stereo_offset_px = problem.stereo_offset_px;
 
   map.write([&](MapData& m) {
     for (size_t i = 0; i < keyframes.size(); ++i)

@@ -153,6 +153,7 @@ struct WindowBaResult {
   int point_outliers = 0, line_outliers = 0;
   double final_rms_px = 0;
   double solve_ms = 0;
+  double stereo_offset_px = 0;  ///< the rectified pair's horizontal offset after the solve
 };
 
 /// Sliding-window bundle adjustment: `window` (keyframe ids, oldest first) plus, fixed, up to
@@ -160,10 +161,12 @@ struct WindowBaResult {
 /// map under its lock, solves without it (only the worker writes the map, so nothing changes
 /// meanwhile), then writes poses, points and lines back and unlinks outlier observations.
 /// `baseline` > 0: keyframes' right-image points join as observations of the rectified
-/// right camera (metric scale in the window). `direction_weight` > 0: the keyframes' segments
-/// parallel to known directions hold their rotations.
+/// right camera (metric scale in the window), their x shifted by `stereo_offset_px` (the
+/// rectified pair's horizontal offset, estimated when config.stereo_offset_sigma_px > 0 and
+/// returned). `direction_weight` > 0: the keyframes' segments parallel to known directions
+/// hold their rotations.
 WindowBaResult bundle_adjust_window(Map& map, const Pinhole& cam, double baseline, const std::vector<Id>& window,
                                     int max_anchors, const backend::BundleAdjustmentConfig& config,
-                                    double direction_weight = 0);
+                                    double direction_weight = 0, double stereo_offset_px = 0);
 
 }  // namespace pllvo::vo

@@ -158,8 +158,10 @@ std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::stereo_points(con
       }
       tr.points[k] = cv::Point2f(*x, pts[k].y);
     }
-    const auto p = triangulate_stereo(camera_, baseline_, to_eigen(pts[k]), to_eigen(tr.points[k]),
-                                      config_.geometry.stereo);
+    // The measured disparity plus the pair's offset estimated by the BA (the match itself
+    // stays as measured: it is the BA's observation).
+    const Eigen::Vector2d right_corrected = to_eigen(tr.points[k]) - Eigen::Vector2d(stereo_offset_px_, 0);
+    const auto p = triangulate_stereo(camera_, baseline_, to_eigen(pts[k]), right_corrected, config_.geometry.stereo);
     if (!p) {
       ++depth_rejects;
       continue;
@@ -563,8 +565,14 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
     const std::vector<Id> ids_window(segment_keyframes_.end() - std::min(window, segment_keyframes_.size()),
                                      segment_keyframes_.end());
     const auto ba = bundle_adjust_window(map_, camera_, baseline_, ids_window, config_.mapping.max_anchor_keyframes,
-                                         window_ba_config(job.image_noise), config_.directions.ba_weight);
+                                         window_ba_config(job.image_noise), config_.directions.ba_weight,
+                                         stereo_offset_px_);
     if (ba.ran) {
+      if (baseline_ > 0) {
+        stats_.add_sample("ba_stereo_offset_px", ba.stereo_offset_px);
+        spdlog::debug("frame {}: window BA stereo offset {:.3f} px", job.frame_index, ba.stereo_offset_px);
+      }
+      stereo_offset_px_ = ba.stereo_offset_px;
       stats_.add_sample("ba_rms_px", ba.final_rms_px);
       stats_.add_count("ba_point_outliers", ba.point_outliers);
       stats_.add_count("ba_line_outliers", ba.line_outliers);

@@ -164,6 +164,9 @@ class KeyframeProcessor {
   VoConfig config_;
   Pinhole camera_;
   double baseline_;
+  /// The rectified stereo pair's horizontal offset (pixels: true disparity = measured + this),
+  /// as the last window BA estimated it; new stereo points are triangulated with it.
+  double stereo_offset_px_ = 0;
   Map& map_;
   RunStats& stats_;
   std::unique_ptr<PointFrontend> frontend_;

@@ -154,10 +154,7 @@ RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, co
     live.emplace();
     live->speed = options.speed;
     live->dropped_frames = played.dropped;
-    const LatencySummary latency = summarize_latency(played.latency_s);
-    live->latency_mean_s = latency.mean;
-    live->latency_p95_s = latency.p95;
-    live->latency_max_s = latency.max;
+    live->latency_s = summarize_latency(played.latency_s);
   } else {
     for (size_t i = options.first_frame; i < end; ++i) {
       io::Frame frame;
@@ -226,9 +223,9 @@ RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, co
     j["realtime"] = {{"speed", live->speed},
                      {"frames_dropped", live->dropped_frames.size()},
                      {"dropped_frames", live->dropped_frames},
-                     {"latency_mean_ms", 1e3 * live->latency_mean_s},
-                     {"latency_p95_ms", 1e3 * live->latency_p95_s},
-                     {"latency_max_ms", 1e3 * live->latency_max_s},
+                     {"latency_mean_ms", 1e3 * live->latency_s.mean},
+                     {"latency_p95_ms", 1e3 * live->latency_s.p95},
+                     {"latency_max_ms", 1e3 * live->latency_s.max},
                      {"keyframes_requested_while_busy", stats.count("keyframes_requested_while_busy")}};
   }
   summary.live = live;

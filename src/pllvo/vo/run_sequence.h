@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "pllvo/io/sequence.h"
+#include "pllvo/vo/live_playback.h"
 #include "pllvo/vo/odometry.h"
 #include "pllvo/vo/run_output.h"
 #include "pllvo/vo/vo_config.h"
@@ -34,7 +35,7 @@ struct RunOptions {
 struct LiveRunStats {
   double speed = 1.0;
   std::vector<size_t> dropped_frames;
-  double latency_mean_s = 0, latency_p95_s = 0, latency_max_s = 0;
+  LatencySummary latency_s;  ///< arrival to pose, seconds
 };
 
 /// Absolute trajectory error against the sequence's ground truth (evo's APE, translation).

@@ -158,8 +158,8 @@ struct InitConfig {
   double mono_min_flow_px = 20.0; ///< median image motion before a two-view attempt
   int max_frames = 60;            ///< give up on a reference frame after this many frames
   /// Stereo points plus stereo lines needed for the first keyframe (of which at least
-  /// pose.stereo_pnp_min_inliers points: PnP seeds the next frames' poses). 30 until session
-  /// 20: medium_lowtexture then started at frame 41-49.
+  /// pose.stereo_pnp_min_inliers points: PnP seeds the next frames' poses). With 30,
+  /// medium_lowtexture started at frame 41-49.
   int stereo_min_points = 12;
   /// No map is started on a frame darker than this mean grey level: there, what the
   /// contrast-stretched detector finds is mostly sensor noise.
@@ -251,8 +251,8 @@ struct PoseConfig {
   /// against its first keyframe, times this weight, to the refinement (robust, as the points).
   /// It constrains the rotation and the direction of motion, not the step's length, so a
   /// thin map (a fast turn, a start from a low-parallax pair) holds its orientation. Used
-  /// throughout a run it was neutral in low light and worse in normal light (docs/vo.md session
-  /// 28). Confined by the gates below to correcting weak starts (weight 1, 1 deg, 1.5 s,
+  /// throughout a run it was neutral in low light and worse in normal light
+  /// (docs/experiments.md). Confined by the gates below to correcting weak starts (weight 1, 1 deg, 1.5 s,
   /// homography, noise 3) it removed the single-thread ~7 % runs but made threaded runs worse
   /// (medium_normal start 0 0.55 -> 1.09 %, start 3 0.82 -> 7.28 %; docs/vo.md). 0: off.
   double mono_epipolar_weight = 0.0;
