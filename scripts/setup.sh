@@ -10,7 +10,7 @@ PACKAGES=(
   libtorch-dev libopenblas0-pthread libopenblas-dev
   libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3 python3-numpy python3-torch python3-opencv
+  python3 python3-numpy python3-torch python3-opencv python3-yaml
   chromium                                  # headless page rendering in tests/report
 )
 

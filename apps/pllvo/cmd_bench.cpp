@@ -32,6 +32,8 @@ struct BenchArgs {
   size_t max_frames = 0;
   std::string out = "bench_out";
   bool keep_runs = false;
+  bool realtime = false;
+  double speed = 1.0;
 };
 
 void run_bench(const BenchArgs& a) {
@@ -51,6 +53,8 @@ void run_bench(const BenchArgs& a) {
   o.mono = a.mono;
   o.first_frame = a.first;
   o.max_frames = a.max_frames;
+  o.realtime = a.realtime;
+  o.speed = a.speed;
   if (a.keep_runs) o.runs_dir = std::filesystem::path(a.out) / "runs";
   const bool tty = ::isatty(2) != 0;
   o.progress = [tty](const std::string& line) {
@@ -106,6 +110,11 @@ void add_bench_command(CLI::App& app) {
   cmd->add_flag("--single-thread", a->single_thread, "deterministic single-thread VO (run.threaded=false)");
   cmd->add_option("--first", a->first, "first frame index of every sequence");
   cmd->add_option("--max-frames", a->max_frames, "at most this many frames per sequence (0: all)");
+  cmd->add_flag("--realtime", a->realtime,
+                "live-rate playback: frames arrive at their timestamps, late ones are dropped (table: dropped %, "
+                "latency)");
+  cmd->add_option("--speed", a->speed, "playback speed factor for --realtime (default 1)")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--out", a->out, "folder for bench.txt, bench.csv, bench.json (default: bench_out)");
   cmd->add_flag("--keep-runs", a->keep_runs, "keep every run's outputs in OUT/runs/<sequence>/<method>/<k>");
   cmd->callback([a] { run_bench(*a); });

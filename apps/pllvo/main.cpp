@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   pllvo::cli::add_bench_command(app);
   pllvo::cli::add_report_command(app);
   pllvo::cli::add_demo_command(app);
+  pllvo::cli::add_config_command(app);
 
   try {
     app.parse(argc, argv);

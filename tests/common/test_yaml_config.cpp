@@ -62,6 +62,41 @@ TEST(ConfigNode, WrongTypeNamesTheKey) {
   EXPECT_THROW(pllvo::ConfigNode::load_file("/nonexistent/x.yaml"), pllvo::InputError);
 }
 
+TEST(ConfigNode, RecordingListsEveryKeyAskedForWithItsDefault) {
+  const auto node = pllvo::ConfigNode::recording();
+  int count = 3;
+  double scale = 0.7;
+  float threshold = 0.0005f;
+  bool on = true;
+  std::string name;
+  std::vector<double> weights = {1.0, 0.5};
+  node.get("count", count);
+  node.child("sub").get("scale", scale);
+  node.child("sub").child("deep").get("on", on);
+  node.get("threshold", threshold);
+  node.get("name", name);
+  node.get("weights", weights);
+  node.record_default("choice", "huber");
+  const auto r = node.recorded();
+  ASSERT_EQ(r.size(), 7u);
+  EXPECT_EQ(r[0].key, "count");
+  EXPECT_EQ(r[0].value, "3");
+  EXPECT_EQ(r[1].key, "sub.scale");
+  EXPECT_EQ(r[1].value, "0.7");
+  EXPECT_EQ(r[2].key, "sub.deep.on");
+  EXPECT_EQ(r[2].value, "true");
+  EXPECT_EQ(r[3].value, "0.0005");  // a float's own digits, not 0.000500000023748726
+  EXPECT_EQ(r[4].value, "\"\"");
+  EXPECT_EQ(r[5].value, "[1, 0.5]");
+  EXPECT_EQ(r[6].key, "choice");
+  // A node read from a file records nothing.
+  const auto file = write_temp("rec.yaml", "count: 4\n");
+  const auto loaded = pllvo::ConfigNode::load_file(file);
+  loaded.get("count", count);
+  loaded.get("other", scale);
+  EXPECT_TRUE(loaded.recorded().empty());
+}
+
 TEST(Fixtures, SharedDirIsPresent) {
   // The whole suite relies on the shared fixtures; this fails loudly when they are missing.
   EXPECT_TRUE(fs::is_directory(pllvo::shared_path("data")));

@@ -22,14 +22,26 @@ ConfigNode ConfigNode::load_file(const std::filesystem::path& file) {
   return ConfigNode(root, file);
 }
 
+ConfigNode ConfigNode::recording() {
+  ConfigNode node(YAML::Node(YAML::NodeType::Map), "(defaults)");
+  node.recorder_ = std::make_shared<std::vector<Default>>();
+  return node;
+}
+
 bool ConfigNode::has(const std::string& key) const { return static_cast<bool>(node_[key]); }
 
 ConfigNode ConfigNode::child(const std::string& key) const {
   used_.insert(key);
   YAML::Node sub = node_[key];
-  if (!sub) return ConfigNode(YAML::Node(YAML::NodeType::Map), file_, path(key));
+  if (!sub) {
+    ConfigNode empty(YAML::Node(YAML::NodeType::Map), file_, path(key));
+    empty.recorder_ = recorder_;
+    return empty;
+  }
   if (!sub.IsMap()) throw InputError(file_, path(key), "expected a mapping");
-  return ConfigNode(sub, file_, path(key));
+  ConfigNode node(sub, file_, path(key));
+  node.recorder_ = recorder_;
+  return node;
 }
 
 void ConfigNode::reject_unknown_keys() const {

@@ -3,7 +3,10 @@
 // a YAML file only overrides the keys it names. Unknown keys are an error (a typo
 // must not silently fall back to a default), and so is a value of the wrong type.
 #include <filesystem>
+#include <limits>
+#include <memory>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -22,6 +25,21 @@ class ConfigNode {
   /// Loads a whole file; missing or unparsable files raise InputError with the line.
   static ConfigNode load_file(const std::filesystem::path& file);
 
+  /// A key path and its default, as a YAML scalar or flow sequence.
+  struct Default {
+    std::string key, value;
+  };
+  /// An empty mapping that records every key a load() asks for, with the value it holds
+  /// then (the struct's default), in the order asked: the configuration reference comes
+  /// from the code that reads the keys (`pllvo config --dump`).
+  static ConfigNode recording();
+  /// The keys recorded so far (empty unless made by recording()).
+  std::vector<Default> recorded() const { return recorder_ ? *recorder_ : std::vector<Default>{}; }
+  /// Records `key` with a default given as text (keys read by other means, e.g. enums).
+  void record_default(const std::string& key, const std::string& text) const {
+    if (recorder_ && !node_[key]) recorder_->push_back({path(key), text});
+  }
+
   bool has(const std::string& key) const;
   ConfigNode child(const std::string& key) const;  ///< an empty mapping when absent
 
@@ -29,7 +47,10 @@ class ConfigNode {
   template <typename T>
   void get(const std::string& key, T& value) const {
     used_.insert(key);
-    if (!node_[key]) return;
+    if (!node_[key]) {
+      if (recorder_) recorder_->push_back({path(key), to_text(value)});
+      return;
+    }
     try {
       value = node_[key].as<T>();
     } catch (const YAML::Exception&) {
@@ -56,12 +77,30 @@ class ConfigNode {
  private:
   template <typename T>
   static std::string type_name();
+  template <typename T>
+  static std::string to_text(const T& value);
 
   YAML::Node node_;
   std::filesystem::path file_;
   std::string prefix_;
   mutable std::set<std::string> used_;
+  std::shared_ptr<std::vector<Default>> recorder_;  ///< shared by a recording node's children
 };
+
+template <typename T>
+std::string ConfigNode::to_text(const T& value) {
+  std::ostringstream out;
+  if constexpr (std::is_floating_point_v<T>) out.precision(std::numeric_limits<T>::digits10);  // 0.7f: "0.7"
+  if constexpr (std::is_same_v<T, bool>) out << (value ? "true" : "false");
+  else if constexpr (std::is_same_v<T, std::string>) out << (value.empty() ? "\"\"" : value);
+  else if constexpr (std::is_arithmetic_v<T>) out << value;
+  else {
+    out << "[";
+    for (size_t i = 0; i < value.size(); ++i) out << (i ? ", " : "") << to_text(value[i]);
+    out << "]";
+  }
+  return out.str();
+}
 
 template <typename T>
 std::string ConfigNode::type_name() {

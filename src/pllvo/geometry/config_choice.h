@@ -11,11 +11,21 @@ namespace pllvo::geometry {
 template <typename Enum>
 using Choices = std::vector<std::pair<std::string, Enum>>;
 
+template <typename Enum>
+std::string choice_name(Enum value, const Choices<Enum>& choices) {
+  for (const auto& [name, e] : choices)
+    if (e == value) return name;
+  return "?";
+}
+
 /// Overwrites `value` when `key` is present; InputError naming the key and the valid
 /// choices when the string names none of them.
 template <typename Enum>
 void get_choice(const ConfigNode& node, const std::string& key, Enum& value, const Choices<Enum>& choices) {
-  if (!node.has(key)) return;
+  if (!node.has(key)) {
+    node.record_default(key, choice_name(value, choices));
+    return;
+  }
   std::string text;
   node.get(key, text);
   for (const auto& [name, e] : choices)
@@ -28,11 +38,5 @@ void get_choice(const ConfigNode& node, const std::string& key, Enum& value, con
   throw InputError(node.file(), node.path(key), "'" + text + "' is not one of: " + valid);
 }
 
-template <typename Enum>
-std::string choice_name(Enum value, const Choices<Enum>& choices) {
-  for (const auto& [name, e] : choices)
-    if (e == value) return name;
-  return "?";
-}
 
 }  // namespace pllvo::geometry

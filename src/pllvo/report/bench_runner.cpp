@@ -39,6 +39,8 @@ RunMetrics run_once(const io::Sequence& sequence, const vo::VoConfig& config, co
   run.stereo = !o.mono;
   run.first_frame = o.first_frame;
   run.max_frames = o.max_frames;
+  run.realtime = o.realtime;
+  run.speed = o.speed;
   if (o.progress) run.progress = [&](const std::string& line) { o.progress(prefix + line); };
   RunMetrics m;
   try {
@@ -116,6 +118,7 @@ BenchResult run_bench(const BenchOptions& o) {
   result.speed_baseline = o.speed_baseline;
   result.repeat = o.repeat;
   result.mono = o.mono;
+  result.realtime = o.realtime;
   for (const auto& m : o.methods) result.methods.push_back(m.name);
   for (const auto& s : o.sequences) result.sequences.push_back(s.name);
 

@@ -33,6 +33,10 @@ struct BenchOptions {
   bool mono = false;        ///< left camera only, also on stereo sequences
   size_t first_frame = 0;
   size_t max_frames = 0;    ///< 0: whole sequences
+  /// Live-rate playback (vo::LivePlayback): frames arrive at their timestamps / speed, late
+  /// ones are dropped; the table adds frames dropped and latency.
+  bool realtime = false;
+  double speed = 1.0;
   double rpe_delta_s = 1.0; ///< RPE pairs this far apart in time
   std::filesystem::path runs_dir;  ///< when set, each run's outputs go to runs_dir/<seq>/<method>/<k>
   std::function<void(const std::string&)> progress;
@@ -60,6 +64,7 @@ struct BenchResult {
   std::string speed_baseline;
   int repeat = 1;
   bool mono = false;
+  bool realtime = false;
   const BenchCell* find(const std::string& method, const std::string& sequence) const;
 };
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <algorithm>
 
 #include "pllvo/common/error.h"
@@ -79,10 +80,19 @@ std::map<std::string, double> method_means(const BenchResult& result, const std:
 }
 
 std::string format_bench_table(const BenchResult& r) {
-  const std::vector<Column> cols = {
+  std::vector<Column> cols = {
       {"sequence", true}, {"method", true}, {"ATE m"},     {"ATE %"},    {"RPE m"},  {"RPE deg"},
       {"tracked %"},      {"KF"},           {"ms/frame mean"}, {"med"},  {"p95"},    {"wall ms/f"},
       {"cpu ms/f"},       {"x " + r.speed_baseline}, {"pt-ext"}, {"line-ext"}, {"track"}, {"match"}, {"BA"}, {"note", true}};
+  // Live-rate runs: frames dropped and latency (arrival to pose) after the keyframe count.
+  const std::vector<std::pair<std::string, std::string>> live = {
+      {"dropped %", "dropped_share"}, {"latency ms", "latency_mean_ms"}, {"lat p95", "latency_p95_ms"}};
+  if (r.realtime)
+    for (size_t k = 0; k < live.size(); ++k) cols.insert(cols.begin() + 8 + k, Column{live[k].first});
+  auto add_live = [&](std::vector<std::string>& row, const std::function<double(const std::string&)>& get) {
+    if (!r.realtime) return;
+    for (const auto& [title, key] : live) row.push_back(fmt((key == "dropped_share" ? 100 : 1) * get(key), "%.1f"));
+  };
   std::vector<std::vector<std::string>> rows;
   for (const auto& seq : r.sequences) {
     for (const auto& method : r.methods) {
@@ -101,6 +111,7 @@ std::string format_bench_table(const BenchResult& r) {
       row.push_back(fmt(median_of(*c, "rpe_rot_deg"), "%.2f"));
       row.push_back(fmt(100 * median_of(*c, "tracked_share"), "%.1f"));
       row.push_back(fmt(median_of(*c, "keyframes"), "%.0f"));
+      add_live(row, [&](const std::string& k) { return median_of(*c, k); });
       row.push_back(with_spread(*c, "frame_ms_mean", "%.1f", r.repeat));
       row.push_back(fmt(median_of(*c, "frame_ms_median"), "%.1f"));
       row.push_back(fmt(median_of(*c, "frame_ms_p95"), "%.1f"));
@@ -126,10 +137,11 @@ std::string format_bench_table(const BenchResult& r) {
       auto get = [&](const std::string& k) { return m.count(k) ? m.at(k) : NAN; };
       std::vector<std::string> row = {"mean", method, fmt(get("ate_rmse_m"), "%.4f"), fmt(get("ate_percent"), "%.2f"),
                                       fmt(get("rpe_trans_m"), "%.4f"), fmt(get("rpe_rot_deg"), "%.2f"),
-                                      fmt(100 * get("tracked_share"), "%.1f"), fmt(get("keyframes"), "%.0f"),
-                                      fmt(get("frame_ms_mean"), "%.1f"), fmt(get("frame_ms_median"), "%.1f"),
-                                      fmt(get("frame_ms_p95"), "%.1f"), fmt(get("wall_ms_per_frame"), "%.1f"),
-                                      fmt(get("cpu_ms_per_frame"), "%.1f"), fmt(get("speed_ratio"), "%.2f")};
+                                      fmt(100 * get("tracked_share"), "%.1f"), fmt(get("keyframes"), "%.0f")};
+      add_live(row, get);
+      for (const char* k : {"frame_ms_mean", "frame_ms_median", "frame_ms_p95", "wall_ms_per_frame", "cpu_ms_per_frame"})
+        row.push_back(fmt(get(k), "%.1f"));
+      row.push_back(fmt(get("speed_ratio"), "%.2f"));
       for (const auto& t : module_timers()) row.push_back(fmt(get("ms_" + t.column), "%.1f"));
       row.push_back("");
       rows.push_back(row);

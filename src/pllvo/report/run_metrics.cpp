@@ -44,6 +44,9 @@ std::map<std::string, double> RunMetrics::values() const {
       {"cpu_ms_per_frame", cpu_ms_per_frame},
       {"matcher_layers_mean", matcher_layers_mean},
       {"matcher_pruned_share", matcher_pruned_share},
+      {"dropped_share", dropped_share},
+      {"latency_mean_ms", latency_mean_ms},
+      {"latency_p95_ms", latency_p95_ms},
   };
   for (const auto& t : module_timers()) {
     const auto it = module_ms.find(t.column);
@@ -94,6 +97,12 @@ void add_stats(const nlohmann::json& stats, RunMetrics& m) {
   const nlohmann::json samples = stats.value("per_frame", nlohmann::json::object());
   if (samples.contains("matcher_layers_run")) m.matcher_layers_mean = number(samples["matcher_layers_run"], "mean");
   if (samples.contains("matcher_pruned_share")) m.matcher_pruned_share = number(samples["matcher_pruned_share"], "mean");
+  if (stats.contains("realtime")) {
+    const auto& live = stats["realtime"];
+    m.dropped_share = m.frames > 0 ? number(live, "frames_dropped") / m.frames : NAN;
+    m.latency_mean_ms = number(live, "latency_mean_ms");
+    m.latency_p95_ms = number(live, "latency_p95_ms");
+  }
   for (const auto& t : module_timers()) {
     double sum = 0;
     bool any = false;

@@ -1,0 +1,164 @@
+#!/usr/bin/python3
+"""The configuration reference (docs/config.md), made from the code and checked against it.
+
+  /usr/bin/python3 scripts/config_reference.py [--pllvo build/bin/pllvo]          # writes docs/config.md
+  /usr/bin/python3 scripts/config_reference.py --check [--pllvo build/bin/pllvo]  # exit 1 on any mismatch
+
+The keys and their defaults come from `pllvo config --dump` (what the loading code asks for,
+with the value the struct holds by default); the one-line meaning of each key is the comment
+beside it in config/*.yaml. --check fails when a key the code reads is missing from its YAML
+file, a YAML key is not read by the code, a YAML value differs from the code's default, a key
+has no comment, or docs/config.md is not what this script would write.
+"""
+import argparse
+import math
+import os
+import re
+import subprocess
+import sys
+
+import yaml
+
+ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+# (dump section, key prefix in the dump, YAML file that documents the keys under it)
+FILES = [
+    ("vo", "", "config/vo.yaml"),
+    ("vo", "geometry.", "config/geometry.yaml"),
+    ("vo", "backend.", "config/backend.yaml"),
+    ("vo", "lines.", "config/lines.yaml"),
+    ("nn", "", "config/nn.yaml"),
+]
+KEY_LINE = re.compile(r"^(?P<indent> *)(?P<key>[A-Za-z_][A-Za-z0-9_]*):(?P<rest>.*)$")
+
+
+def dump(pllvo, section):
+    out = subprocess.run([pllvo, "config", "--dump", "--section", section], capture_output=True, text=True)
+    if out.returncode != 0:
+        sys.exit(f"config_reference: `{pllvo} config --dump --section {section}` failed: {out.stderr.strip()}")
+    keys = {}
+    for line in out.stdout.splitlines():
+        key, _, value = line.partition(": ")
+        keys[key] = value
+    return keys
+
+
+def yaml_leaves(path):
+    """{dotted key: (value, comment, line number)} of a YAML file's leaf keys."""
+    full = os.path.join(ROOT, path)
+    with open(full) as f:
+        text = f.read()
+    values = yaml.safe_load(text) or {}
+    leaves, stack = {}, []  # stack of (indent, key)
+    for number, line in enumerate(text.splitlines(), 1):
+        m = KEY_LINE.match(line)
+        if not m:
+            continue
+        indent = len(m["indent"])
+        while stack and stack[-1][0] >= indent:
+            stack.pop()
+        value_text, _, comment = m["rest"].partition("#")
+        dotted = ".".join([k for _, k in stack] + [m["key"]])
+        node = values
+        for part in dotted.split("."):
+            node = node[part]
+        if isinstance(node, dict):
+            stack.append((indent, m["key"]))
+            continue
+        leaves[dotted] = (node, comment.strip(), number)
+    return leaves
+
+
+def same_value(yaml_value, code_text):
+    code = yaml.safe_load(code_text)
+    if isinstance(code, str):
+        try:
+            code = float(code)  # YAML 1.1 reads "1e-06" (no dot) as a string
+        except ValueError:
+            pass
+    if isinstance(yaml_value, str):
+        try:
+            yaml_value = float(yaml_value)
+        except ValueError:
+            pass
+    if isinstance(yaml_value, bool) or isinstance(code, bool):
+        return yaml_value == code
+    if isinstance(yaml_value, (int, float)) and isinstance(code, (int, float)):
+        return math.isclose(yaml_value, code, rel_tol=1e-12, abs_tol=1e-15)
+    if isinstance(yaml_value, list) and isinstance(code, list):
+        return len(yaml_value) == len(code) and all(same_value(a, str(b)) for a, b in zip(yaml_value, code))
+    return (yaml_value if yaml_value is not None else "") == (code if code is not None else "")
+
+
+def collect(pllvo):
+    dumps = {s: dump(pllvo, s) for s in {f[0] for f in FILES}}
+    problems, tables = [], []
+    prefixes = [f[1] for f in FILES if f[0] == "vo" and f[1]]
+    for section, prefix, path in FILES:
+        code = {k[len(prefix):]: v for k, v in dumps[section].items()
+                if k.startswith(prefix) and (prefix or not any(k.startswith(p) for p in prefixes))}
+        leaves = yaml_leaves(path)
+        rows = []
+        for key, default in code.items():
+            if key not in leaves:
+                problems.append(f"{path}: key {key} (code default {default}) is missing")
+                rows.append((key, default, ""))
+                continue
+            value, comment, line = leaves[key]
+            if not same_value(value, default):
+                problems.append(f"{path}:{line}: {key}: {value!r} differs from the code's default {default}")
+            if not comment:
+                problems.append(f"{path}:{line}: {key} has no comment (its meaning)")
+            rows.append((key, default, comment))
+        for key, (_, _, line) in leaves.items():
+            if key not in code:
+                problems.append(f"{path}:{line}: {key} is not read by the code")
+        tables.append((path, prefix, rows))
+    return problems, tables
+
+
+def markdown(tables):
+    out = ["# Configuration reference", "",
+           "Every key pllvo reads, with its default and its meaning. Generated by `scripts/config_reference.py`",
+           "from `pllvo config --dump` (the defaults, read off the code that loads each key) and the comments in",
+           "`config/*.yaml`; the test `config_reference` fails when the code, the YAML files and this page disagree.",
+           "Do not edit by hand: change the code or the YAML comment and run the script.", "",
+           "A config file passed with `--config` only needs the keys it changes; unknown keys are an error.", ""]
+    for path, prefix, rows in tables:
+        where = f"section `{prefix[:-1]}:` of a VO config, documented in `{path}`" if prefix else f"`{path}`"
+        out += [f"## {path}", "", f"Keys of {where}.", "", "| key | default | meaning |", "|---|---|---|"]
+        for key, default, comment in rows:
+            out.append(f"| `{prefix}{key}` | `{default}` | {comment.replace('|', '/')} |")
+        out.append("")
+    return "\n".join(out)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--pllvo", default=os.path.join(ROOT, "build", "bin", "pllvo"))
+    p.add_argument("--check", action="store_true", help="compare instead of writing")
+    p.add_argument("--out", default=os.path.join(ROOT, "docs", "config.md"))
+    args = p.parse_args()
+    problems, tables = collect(args.pllvo)
+    page = markdown(tables)
+    if args.check:
+        try:
+            with open(args.out) as f:
+                if f.read() != page:
+                    problems.append(f"{args.out} is out of date: run scripts/config_reference.py")
+        except FileNotFoundError:
+            problems.append(f"{args.out} is missing: run scripts/config_reference.py")
+        if problems:
+            print(f"{len(problems)} problem(s):")
+            print("\n".join(problems))
+            sys.exit(1)
+        print(f"config reference agrees with the code: {sum(len(r) for _, _, r in tables)} keys")
+        return
+    with open(args.out, "w") as f:
+        f.write(page)
+    print(f"wrote {args.out}; {len(problems)} problem(s)")
+    for line in problems:
+        print(line)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,94 @@
+// Metric stereo on real driving: KITTI 01 (far-field highway with a 98 deg turn) and KITTI 06
+// (straight urban road), frames 0-50, with the default front end (SuperPoint + LightGlue) in
+// the deterministic single-thread mode, against the sequences' ground truth (poses/*.txt).
+//
+// KITTI 01's rectified pair is about a pixel off in disparity: with it taken as given, the
+// far points (4-8 px of disparity) made every step 1.19x too long (median) and the ATE 5.5 %.
+// The window BA's estimate of the pair's offset (backend.bundle_adjustment.stereo_offset_sigma_px)
+// is what these bounds check.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "pllvo/common/fixtures.h"
+#include "pllvo/io/sequence.h"
+#include "pllvo/vo/run_sequence.h"
+#include "synthetic_sequence.h"
+
+namespace pllvo::vo {
+namespace {
+
+VoConfig default_single_thread() {
+  VoConfig c;
+  c.frontend.superpoint_weights = PLLVO_SOURCE_DIR "/models/pllvo_superpoint_v1.safetensors";
+  c.mapping.lightglue_weights = PLLVO_SOURCE_DIR "/models/pllvo_lightglue_v1.safetensors";
+  c.run.threaded = false;
+  c.run.progress_interval_s = 0;
+  return c;
+}
+
+/// Median over consecutive estimated frames of |estimated step| / |true step| (poses paired
+/// by timestamp): 1 is the metric scale.
+double median_step_ratio(const io::Trajectory& estimate, const io::Trajectory& truth) {
+  auto truth_at = [&](double t) -> const Eigen::Isometry3d* {
+    for (size_t i = 0; i < truth.size(); ++i)
+      if (std::abs(truth.stamps[i] - t) < 1e-3) return &truth.poses[i];
+    return nullptr;
+  };
+  std::vector<double> ratios;
+  for (size_t k = 1; k < estimate.size(); ++k) {
+    const auto* a = truth_at(estimate.stamps[k - 1]);
+    const auto* b = truth_at(estimate.stamps[k]);
+    if (!a || !b) continue;
+    const double true_step = (b->translation() - a->translation()).norm();
+    if (true_step < 0.1) continue;
+    ratios.push_back((estimate.poses[k].translation() - estimate.poses[k - 1].translation()).norm() / true_step);
+  }
+  if (ratios.empty()) return NAN;
+  std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+  return ratios[ratios.size() / 2];
+}
+
+RunSummary run_stereo(const char* folder) {
+  const auto seq = io::open_sequence(shared_path(folder));
+  RunSummary s = run_sequence(*seq, default_single_thread(), RunOptions{});
+  EXPECT_TRUE(s.stereo);
+  EXPECT_TRUE(s.error.has_value());
+  const double ratio = seq->ground_truth() ? median_step_ratio(s.trajectory, *seq->ground_truth()) : NAN;
+  std::printf("[ kitti stereo ] %s: %zu/%zu frames, %zu resets, SE3 ATE %.3f m = %.2f %% of %.1f m, median step "
+              "ratio %.3f\n",
+              folder, s.tracked_frames, s.frames, static_cast<size_t>(s.resets), s.error ? s.error->rmse_m : -1.0,
+              s.error ? s.error->percent_of_path : -1.0, s.error ? s.error->path_length_m : -1.0, ratio);
+  s.stats["test_median_step_ratio"] = ratio;
+  return s;
+}
+
+TEST(KittiStereo, HighwayFarFieldKeepsTheMetricScale) {
+  const RunSummary s = run_stereo("data/kitti_01_stereo51/sequences/01");
+  EXPECT_EQ(s.tracked_frames, 51u);
+  EXPECT_EQ(s.resets, 0);
+  ASSERT_TRUE(s.error.has_value());
+  // Measured 3.1 % and 1.12 with the offset estimated; 5.5 % and 1.19 with the pair as given
+  // (ORB-SLAM3 on the same frames: 1.5-1.7 %, 1.05).
+  const double ratio = s.stats["test_median_step_ratio"].get<double>();
+  EXPECT_LT(ratio, 1.15);
+  EXPECT_GT(ratio, 0.95);
+  EXPECT_LT(s.error->percent_of_path, 4.5);
+}
+
+TEST(KittiStereo, UrbanStraightStaysWithinATenthOfAPercent) {
+  const RunSummary s = run_stereo("data/kitti_06_stereo51/sequences/06");
+  EXPECT_EQ(s.tracked_frames, 51u);
+  EXPECT_EQ(s.resets, 0);
+  ASSERT_TRUE(s.error.has_value());
+  // Measured 0.04 % and 1.000 (0.25 % with the pair as given; ORB-SLAM3 0.07 %).
+  const double ratio = s.stats["test_median_step_ratio"].get<double>();
+  EXPECT_NEAR(ratio, 1.0, 0.02);
+  EXPECT_LT(s.error->percent_of_path, 0.15);
+}
+
+}  // namespace
+}  // namespace pllvo::vo
