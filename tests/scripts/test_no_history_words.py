@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""No tracked file speaks of the project's history in work periods ("session 12", "Session-3").
+"""No tracked file speaks of the project's history in work periods (the word for one, then a number).
 
 Code, config, docs and file names describe the software and its measurements; the pattern below
 is assembled from two parts so that this file does not match it itself. The check also runs the

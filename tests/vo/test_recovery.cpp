@@ -95,6 +95,10 @@ TEST(Recovery, AStereoFrameThatLosesItsPoseRelocalisesAtOnce) {
   auto run = [&](bool at_once) {
     VoConfig config = testing::deterministic();
     config.pose.stereo_restart_at_once = at_once;
+    // The two restart policies alone: the stereo offset estimate wanders by tenths of a pixel on
+    // this short half-resolution render (0.0314 against 0.0242 m with it), which is not what
+    // this test compares.
+    config.backend.bundle_adjustment.stereo_offset_sigma_px = 0;
     testing::FrameDroppingSequence seq(io::open_sequence(testing::rendered(spec, "recovery")), first, dropped);
     return run_sequence(seq, config, {});
   };
