@@ -51,13 +51,22 @@ TEST(FrameMotion, CarriesTheFramesWhereTheMapRunsOutOfPoints) {
   EXPECT_LT(on.error->percent_of_path, off.error->percent_of_path);
 }
 
+/// The most frames posed by frame motion in a row (0 when none was).
+int longest_frame_motion_run(const RunSummary& s) {
+  const auto& pf = s.stats["per_frame"];
+  return pf.contains("frame_motion_run") ? static_cast<int>(pf["frame_motion_run"]["max"].get<double>()) : 0;
+}
+
 TEST(FrameMotion, StopsAfterTheConfiguredFramesInARow) {
-  // Measured: 5 frames by frame motion, then 3 lost and resumed (58 of 61 frames tracked,
-  // 8.70 %; off: 58 frames, 8.51 %).
+  // Measured: 5 frames by frame motion in a row, then 3 lost and resumed (58 of 61 frames
+  // tracked, 8.70 %; off: 58 frames, 8.51 %). With OpenCV's AVX2 / FMA kernels disabled the map
+  // thins a frame differently: 7 frames by frame motion, the longest run still 5.
   const RunSummary on = run_starved("difficult_normal", 20, 20);
   const RunSummary off = run_starved("difficult_normal", 20, 0);
   print("difficult_normal from frame 20", on, off);
-  EXPECT_EQ(frame_motion_poses(on), 5);
+  std::printf("[ frame motion ] longest run in a row: %d\n", longest_frame_motion_run(on));
+  EXPECT_EQ(longest_frame_motion_run(on), VoConfig().pose.mono_frame_motion_max_frames);
+  EXPECT_GE(frame_motion_poses(on), 5);
   EXPECT_GE(on.tracked_frames, off.tracked_frames);
   EXPECT_LT(on.tracked_frames, on.frames);
 }

@@ -646,7 +646,10 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     const bool by_frame_motion = !estimate.ok;
     if (by_frame_motion) estimate = pose_from_frame_motion(frame.index, from, tr, which, line_measurements.size());
     frame_motion_run_ = estimate.ok && by_frame_motion ? frame_motion_run_ + 1 : 0;
-    if (estimate.ok && by_frame_motion) stats_.add_count("frame_motion_poses");
+    if (estimate.ok && by_frame_motion) {
+      stats_.add_count("frame_motion_poses");
+      stats_.add_sample("frame_motion_run", frame_motion_run_);  // its max: the longest run in a row
+    }
   }
 
   // Keep the tracks that survived KLT (and, on success, the pose's inlier test); candidates
