@@ -9,6 +9,8 @@
 #include <benchmark/benchmark.h>
 #include <dlfcn.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <map>
 #include <memory>
@@ -134,6 +136,64 @@ void BM_LightGlue(benchmark::State& state) {
   state.counters["pruned_share"] = pruned;
 }
 BENCHMARK(BM_LightGlue)->ArgNames({"keypoints", "adaptive", "threads"})->ArgsProduct({{512, 1024}, {0, 1}, {1, 2}})
+    ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
+
+// OpenBLAS's own thread count, apart from LibTorch's (set_num_threads sets both).
+void set_blas_threads(int n) {
+  using SetThreads = void (*)(int);
+  if (auto* f = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) f(n);
+}
+
+// Multiply-adds x 2 of LightGlue's full forward pass (no early exit, no pruning) with n0 and n1
+// keypoints, descriptor width d and `layers` layers, counted from lightglue.cpp's products: per layer
+// and image, self-attention (qkv 6nd^2, QK^T and AV 4n^2 d, out 2nd^2, FFN 2d->2d->d 12nd^2) and
+// cross-attention (qk+v 4nd^2, out 2nd^2, FFN 12nd^2; the similarity and both messages 6 n0 n1 d for the
+// pair); input and final projections 4(n0+n1)d^2 and the final similarity 2 n0 n1 d. Element-wise
+// work (softmax, GELU, layer norm, rotary encoding) is left out: it is O(n d) or O(n^2) per head.
+double lightglue_flops(double n0, double n1, double d, int layers) {
+  const double self = 20 * (n0 + n1) * d * d + 4 * (n0 * n0 + n1 * n1) * d;
+  const double cross = 18 * (n0 + n1) * d * d + 6 * n0 * n1 * d;
+  return layers * (self + cross) + 4 * (n0 + n1) * d * d + 2 * n0 * n1 * d;
+}
+
+// The best of 10 products of LightGlue's commonest shape, [n, d] x [d, 3d] (the self-attention's
+// qkv projection), through LibTorch at the current thread count: this machine's sgemm rate for it.
+double sgemm_gflops(int n, int d) {
+  c10::InferenceMode guard;
+  const at::Tensor a = at::randn({n, d}), b = at::randn({d, 3 * d});
+  at::Tensor c = at::mm(a, b);
+  double best = 1e30;
+  for (int i = 0; i < 10; ++i) {
+    const auto t0 = std::chrono::steady_clock::now();
+    c = at::mm(a, b);
+    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  return 2.0 * n * d * 3 * d / best / 1e9;
+}
+
+// LightGlue's forward pass against its FLOP count and the sgemm rate measured in the same run: `limit_ms`
+// is the time the products alone would take at that rate, `x_limit` how far the pass is from it.
+// torch_threads and blas_threads are set apart (LibTorch's OpenMP pool, OpenBLAS's own threads).
+void BM_LightGlueFlops(benchmark::State& state) {
+  const int torch_threads = static_cast<int>(state.range(1)), blas_threads = static_cast<int>(state.range(2));
+  set_num_threads(torch_threads);
+  set_blas_threads(blas_threads);
+  const auto& [f0, f1] = Inputs::get().pairs.at(static_cast<int>(state.range(0)));
+  const LightGlue& lg = lightglue(false);
+  const double rate = sgemm_gflops(static_cast<int>(f0.size()), 256);
+  LightGlueResult r = lg.match(f0, f1);  // warm-up
+  for (auto _ : state) {
+    r = lg.match(f0, f1);
+    benchmark::DoNotOptimize(r.matches.pairs.data());
+  }
+  const double flops = lightglue_flops(static_cast<double>(f0.size()), static_cast<double>(f1.size()), 256, 9);
+  state.counters["gflop"] = flops / 1e9;
+  state.counters["sgemm_gflops"] = rate;
+  state.counters["limit_ms"] = 1e3 * flops / 1e9 / rate;
+  state.counters["achieved_gflops"] = benchmark::Counter(flops / 1e9, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_LightGlueFlops)->ArgNames({"keypoints", "torch_threads", "blas_threads"})
+    ->Args({512, 1, 1})->Args({512, 2, 2})->Args({512, 1, 2})->Args({512, 2, 1})
     ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
 
 void BM_Mnn(benchmark::State& state) {

@@ -11,6 +11,7 @@ PACKAGES=(
   libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-torch python3-opencv python3-yaml
+  pybind11-dev python3-pybind11 python3-dev python3-pytest python3-matplotlib   # the Python module and its tests
   chromium                                  # headless page rendering in tests/report
 )
 

@@ -21,6 +21,19 @@ std::string WeightSearch::not_found_message() const {
 
 std::filesystem::path repository_models_dir() { return PLLVO_REPO_MODELS_DIR; }
 
+std::filesystem::path installed_models_dir() {
+  std::error_code ec;
+  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec) return {};
+  const auto dir = exe.parent_path().parent_path() / "share" / "pllvo" / "models";
+  return std::filesystem::is_directory(dir, ec) ? dir : std::filesystem::path();
+}
+
+std::filesystem::path default_models_dir() {
+  const auto installed = installed_models_dir();
+  return installed.empty() ? repository_models_dir() : installed;
+}
+
 namespace {
 
 WeightSearch search_folder(const std::filesystem::path& folder, const std::vector<std::string>& file_names) {
@@ -54,7 +67,7 @@ WeightSearch find_weights(const std::filesystem::path& configured, const std::ve
     return search;
   }
   const char* env = std::getenv("PLLVO_MODELS");
-  return search_folder(env && *env ? fs::path(env) : repository_models_dir(), file_names);
+  return search_folder(env && *env ? fs::path(env) : default_models_dir(), file_names);
 }
 
 }  // namespace pllvo::nn

@@ -4,55 +4,16 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
 #include <exception>
 #include <mutex>
-#include <optional>
 #include <thread>
 
 #include "pllvo/common/error.h"
+#include "pllvo/vo/frame_slot.h"
 
 namespace pllvo::vo {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-/// The driver's one-frame queue: put() replaces a frame nobody took yet.
-class FrameSlot {
- public:
-  /// Returns the index of the frame it replaced, if any.
-  std::optional<size_t> put(io::Frame frame, Clock::time_point arrival) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    std::optional<size_t> replaced;
-    if (frame_) replaced = frame_->index;
-    frame_ = std::move(frame);
-    arrival_ = arrival;
-    ready_.notify_one();
-    return replaced;
-  }
-  void close() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    closed_ = true;
-    ready_.notify_one();
-  }
-  /// Blocks for the next frame; nullopt once closed and empty.
-  std::optional<std::pair<io::Frame, Clock::time_point>> take() {
-    std::unique_lock<std::mutex> lock(mutex_);
-    ready_.wait(lock, [&] { return frame_.has_value() || closed_; });
-    if (!frame_) return std::nullopt;
-    std::pair<io::Frame, Clock::time_point> out{std::move(*frame_), arrival_};
-    frame_.reset();
-    return out;
-  }
-
- private:
-  std::mutex mutex_;
-  std::condition_variable ready_;
-  std::optional<io::Frame> frame_;
-  Clock::time_point arrival_;
-  bool closed_ = false;
-};
-
+using Clock = FrameSlot::Clock;
 }  // namespace
 
 LivePlayback::LivePlayback(LivePlaybackConfig config) : config_(config) {
@@ -91,9 +52,9 @@ LivePlaybackResult LivePlayback::play(size_t first, size_t end, const std::vecto
   std::exception_ptr consumer_failure;
   try {
     while (auto item = slot.take()) {
-      consume(item->first);
-      result.consumed.push_back(item->first.index);
-      result.latency_s.push_back(std::chrono::duration<double>(Clock::now() - item->second).count());
+      consume(item->frame);
+      result.consumed.push_back(item->frame.index);
+      result.latency_s.push_back(std::chrono::duration<double>(Clock::now() - item->arrival).count());
     }
   } catch (...) {
     consumer_failure = std::current_exception();

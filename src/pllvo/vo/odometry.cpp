@@ -791,6 +791,7 @@ void Odometry::maybe_make_keyframe(const io::Frame& frame, const cv::Mat& left, 
 }
 
 void Odometry::submit_keyframe(KeyframeJob job) {
+  stats_.add_count("keyframe_requests");
   pending_keyframe_frames_.insert(job.frame_index);
   // Two parts (KeyframeWorker): detection, then the rest with what it found.
   auto shared_job = std::make_shared<const KeyframeJob>(std::move(job));
