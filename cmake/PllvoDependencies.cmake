@@ -10,7 +10,7 @@ endmacro()
 
 pllvo_require(Eigen3 libeigen3-dev 3.3 NO_MODULE)
 pllvo_require(OpenCV "libopencv-dev libopencv-contrib-dev" 4.5
-              COMPONENTS core imgproc imgcodecs highgui calib3d features2d video videoio ximgproc line_descriptor)
+              COMPONENTS core imgproc imgcodecs highgui calib3d features2d video videoio ximgproc line_descriptor aruco)
 pllvo_require(Ceres libceres-dev)
 pllvo_require(yaml-cpp libyaml-cpp-dev)
 pllvo_require(CLI11 libcli11-dev)

@@ -16,5 +16,6 @@ void add_bench_command(CLI::App& app);
 void add_report_command(CLI::App& app);
 void add_demo_command(CLI::App& app);
 void add_config_command(CLI::App& app);
+void add_calibrate_command(CLI::App& app);
 
 }  // namespace pllvo::cli

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   pllvo::cli::add_report_command(app);
   pllvo::cli::add_demo_command(app);
   pllvo::cli::add_config_command(app);
+  pllvo::cli::add_calibrate_command(app);
 
   try {
     app.parse(argc, argv);

@@ -3,6 +3,9 @@
 // pllvo_executable_blas() (cmake/PllvoDependencies.cmake) links OpenBLAS first; these tests
 // prove it for this executable (the CLI and benchmarks use the same CMake function).
 #include <dlfcn.h>
+#include <cstdlib>
+#include <string>
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -70,6 +73,25 @@ TEST(Blas, ThreadCountsAreSetTogether) {
   set_num_threads(1);
   EXPECT_EQ(num_threads(), 1);
   EXPECT_EQ(openblas_threads(), 1);
+  set_num_threads(before);
+}
+
+// LightGlue's products run on OpenBLAS's threads; LibTorch's pool stays at one thread meanwhile, unless
+// OpenMP waits passively (then both pools may run: the environment of this process decides which).
+TEST(Blas, MatmulThreadsLeaveTheThreadsToOpenBlasWhileTheyLive) {
+  using GetThreads = int (*)();
+  auto* openblas_threads = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  ASSERT_NE(openblas_threads, nullptr);
+  const int before = num_threads();
+  set_num_threads(2);
+  const char* policy = std::getenv("OMP_WAIT_POLICY");
+  const bool passive = policy && (std::string(policy) == "PASSIVE" || std::string(policy) == "passive");
+  {
+    const MatmulThreads matmul;
+    EXPECT_EQ(num_threads(), passive ? 2 : 1);
+    EXPECT_EQ(openblas_threads(), 2);
+  }
+  EXPECT_EQ(num_threads(), 2);  // restored
   set_num_threads(before);
 }
 

@@ -1,12 +1,11 @@
 #include "pllvo/api/calibration.h"
 
 #include <cmath>
-#include <fstream>
 
 
 #include "pllvo/camera/camera_yaml.h"
 #include "pllvo/common/error.h"
-#include "pllvo/io/euroc_sequence.h"
+#include "pllvo/io/calibration_file.h"
 #include "pllvo/io/sequence.h"
 
 namespace pllvo {
@@ -30,19 +29,6 @@ camera::CameraPtr make_checked_camera(const CameraIntrinsics& c, const char* whi
   return camera::make_camera(c.distortion_model, c.width, c.height, k, c.distortion);
 }
 
-/// EuRoC's sensor.yaml has T_BS and intrinsics; pllvo's camera YAML has fx.
-bool is_euroc_sensor_yaml(const std::filesystem::path& file) {
-  try {
-    // EuRoC's files start with OpenCV's %YAML:1.0 directive, which yaml-cpp rejects: look at keys only.
-    std::ifstream in(file);
-    std::string line;
-    while (std::getline(in, line))
-      if (line.rfind("T_BS", 0) == 0 || line.rfind("intrinsics", 0) == 0) return true;
-  } catch (...) {
-  }
-  return false;
-}
-
 }  // namespace
 
 Calibration::Calibration(std::shared_ptr<const io::Calibration> calibration) : calibration_(std::move(calibration)) {
@@ -54,13 +40,8 @@ Calibration Calibration::load(const std::filesystem::path& path) {
   auto c = std::make_shared<io::Calibration>();
   if (std::filesystem::is_directory(path)) {
     *c = io::open_sequence(path)->calibration();
-  } else if (is_euroc_sensor_yaml(path)) {
-    const io::EurocCameraSensor sensor = io::read_euroc_sensor_yaml(path);
-    c->cam0 = sensor.camera;
-    c->T_body_cam0 = sensor.T_body_cam;
-    c->rate_hz = sensor.rate_hz;
   } else {
-    c->cam0 = camera::load_camera_yaml(path);
+    *c = io::load_calibration_file(path);
   }
   return Calibration(std::move(c));
 }

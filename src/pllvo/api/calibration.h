@@ -27,7 +27,9 @@ class Calibration {
  public:
   /// Reads any calibration pllvo reads: a dataset folder (EuRoC ASL, KITTI odometry, TUM RGB-D
   /// or image folder with its camera.yaml; stereo when the dataset has two cameras), pllvo's
-  /// camera YAML (docs/datasets.md), or a EuRoC sensor.yaml. InputError naming the file and key.
+  /// camera YAML (docs/datasets.md), a EuRoC sensor.yaml, OpenCV's calibration output
+  /// (camera_matrix, distortion_coefficients) or a Kalibr camchain (a stereo pair with cam1).
+  /// InputError naming the file and key.
   static Calibration load(const std::filesystem::path& path);
   /// InputError for a size or focal length that is not positive or any value that is not finite.
   static Calibration mono(const CameraIntrinsics& camera);

@@ -1,4 +1,5 @@
 #include "pllvo/nn/lightglue.h"
+#include "pllvo/nn/runtime.h"
 
 #include <cmath>
 #include <cstring>
@@ -552,6 +553,7 @@ LightGlueResult LightGlue::match(const Features& f0, const Features& f1, LightGl
   check_features(f0, net.arch.input_dim, "image 0");
   check_features(f1, net.arch.input_dim, "image 1");
   c10::InferenceMode guard;
+  const MatmulThreads threads;
 
   const at::Tensor kn0 = normalize_keypoints(f0), kn1 = normalize_keypoints(f1);
   PointSet p0 = net.encode(f0, kn0), p1 = net.encode(f1, kn1);

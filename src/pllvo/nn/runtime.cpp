@@ -35,6 +35,25 @@ void set_num_threads(int n) {
 
 int num_threads() { return at::get_num_threads(); }
 
+namespace {
+
+/// libgomp's threads sleep instead of spinning when they wait (OMP_WAIT_POLICY=PASSIVE, read
+/// when libgomp loads): then both pools can run at once without taking turns on the cores.
+bool openmp_waits_passively() {
+  const char* policy = std::getenv("OMP_WAIT_POLICY");
+  return policy && (std::string(policy) == "PASSIVE" || std::string(policy) == "passive");
+}
+
+}  // namespace
+
+MatmulThreads::MatmulThreads() : torch_threads_(openmp_waits_passively() ? 1 : at::get_num_threads()) {
+  if (torch_threads_ > 1) at::set_num_threads(1);
+}
+
+MatmulThreads::~MatmulThreads() {
+  if (torch_threads_ > 1) at::set_num_threads(torch_threads_);
+}
+
 std::string blas_library() {
   void* sym = dlsym(RTLD_DEFAULT, "sgemm_");
   Dl_info info{};

@@ -20,6 +20,23 @@ void keep_freed_memory();
 /// LibTorch's intra-op thread count.
 int num_threads();
 
+/// For work made of matrix products (LightGlue): while it lives, LibTorch's own pool runs one
+/// thread and OpenBLAS keeps the threads set_num_threads gave it, unless OpenMP's threads wait
+/// passively (OMP_WAIT_POLICY=PASSIVE in the environment), when it changes nothing. Both pools at
+/// 2 threads with OpenMP's default spin-waiting made LightGlue 3.6x slower than one thread on 2
+/// cores (each pool's threads spin while the other's work); OpenBLAS alone at 2 threads is 1.5x
+/// faster than one thread, both pools with passive waiting 1.6x (bench_nn BM_LightGlueFlops, docs/nn.md).
+class MatmulThreads {
+ public:
+  MatmulThreads();
+  ~MatmulThreads();
+  MatmulThreads(const MatmulThreads&) = delete;
+  MatmulThreads& operator=(const MatmulThreads&) = delete;
+
+ private:
+  int torch_threads_;
+};
+
 /// The shared library that serves the Fortran BLAS symbol `sgemm_` in this process,
 /// i.e. the one LibTorch's matrix products run on (found with dlsym + dladdr). On Debian a
 /// binary linking Ceres may get ATLAS here, ~12x slower than OpenBLAS; see docs/nn.md.
