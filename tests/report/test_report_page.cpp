@@ -155,6 +155,24 @@ TEST(RenderReport, PageHoldsEveryPlotAndTheFrameInline) {
   EXPECT_EQ(html.find("<script"), std::string::npos);
 }
 
+TEST(RenderReport, TrajectoryPlotsShowThePlaneOfLargestMotion) {
+  // A drive as KITTI's camera frame has it: forward along z, sideways along x, height (y) nearly constant.
+  io::Trajectory drive;
+  for (int i = 0; i < 100; ++i) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = Eigen::Vector3d(3.0 * std::sin(0.03 * i), 0.02 * std::sin(0.5 * i), 0.6 * i);
+    drive.push_back(0.1 * i, T);
+  }
+  std::vector<Eigen::Vector3d> points;
+  for (const auto& T : drive.poses) points.push_back(T.translation());
+  EXPECT_EQ(axes_by_extent(points), (std::array<int, 3>{2, 0, 1}));
+  const auto dir = make_run_dir("drive", drive);
+  const std::string html = render_report(load_run(dir, dir / "groundtruth.tum"));
+  EXPECT_NE(html.find("plane of largest motion (x-z)"), std::string::npos);
+  EXPECT_NE(html.find("across it (y-z)"), std::string::npos);
+  EXPECT_EQ(axes_by_extent({}), (std::array<int, 3>{0, 1, 2}));
+}
+
 // ---------------------------------------------------------------- headless Chromium
 
 std::string find_chromium() {

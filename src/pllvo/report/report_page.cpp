@@ -53,7 +53,28 @@ std::string component_chart(const PlotSeries& s, const std::vector<Eigen::Vector
   return chart.render(386, 230);
 }
 
+}  // namespace
+
+std::array<int, 3> axes_by_extent(const std::vector<Eigen::Vector3d>& points) {
+  Eigen::Vector3d extent = Eigen::Vector3d::Zero();
+  if (!points.empty()) {
+    Eigen::Vector3d lo = points.front(), hi = points.front();
+    for (const auto& p : points) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    extent = hi - lo;
+  }
+  std::array<int, 3> axes{0, 1, 2};
+  std::stable_sort(axes.begin(), axes.end(), [&](int a, int b) { return extent[a] > extent[b]; });
+  return axes;
+}
+
+namespace {
+
+/// `a` and `b` in increasing axis order, so that x comes before z whichever spread more.
 std::string view_chart(const PlotSeries& s, int a, int b, const std::string& title, const std::string& id) {
+  if (a > b) std::swap(a, b);
   static const char* names[] = {"x [m]", "y [m]", "z [m]"};
   LineChart chart(title, names[a], names[b]);
   chart.set_id(id);
@@ -61,6 +82,18 @@ std::string view_chart(const PlotSeries& s, int a, int b, const std::string& tit
   if (!s.gt_xyz.empty()) chart.add({"ground truth", kTruthColor, component(s.gt_xyz, a), component(s.gt_xyz, b)});
   chart.add({"estimate", kEstimateColor, component(s.est_xyz, a), component(s.est_xyz, b)});
   return chart.render(586, 440);
+}
+
+/// The plane of largest motion and, beside it, the largest axis against the smallest (the path's height or depth).
+std::string trajectory_views(const PlotSeries& s) {
+  static const char* letters = "xyz";
+  const auto axes = axes_by_extent(s.gt_xyz.empty() ? s.est_xyz : s.gt_xyz);
+  const auto plane = [&](int a, int b) {
+    if (a > b) std::swap(a, b);
+    return std::string(1, letters[a]) + "-" + letters[b];
+  };
+  return view_chart(s, axes[0], axes[1], "plane of largest motion (" + plane(axes[0], axes[1]) + ")", "top") +
+         view_chart(s, axes[0], axes[2], "across it (" + plane(axes[0], axes[2]) + ")", "side");
 }
 
 std::string timing_chart(const nlohmann::json& stats) {
@@ -281,8 +314,7 @@ std::string render_report(const ReportInput& in) {
   } else {
     const std::string versus = s.gt_xyz.empty() ? "" : " against ground truth (" + s.align + " aligned)";
     o << "<h2>Trajectory" << xml_escape(versus) << "</h2>\n<div class=\"row\" id=\"trajectory\">\n"
-      << view_chart(s, 0, 1, "top view (x-y)", "top") << view_chart(s, 0, 2, "side view (x-z)", "side")
-      << "</div>\n";
+      << trajectory_views(s) << "</div>\n";
     if (!s.error_m.empty()) {
       LineChart chart("absolute translation error (APE) over time, RMSE " + fmt("%.4f m", s.ate_rmse_m), "time [s]",
                       "error [m]");

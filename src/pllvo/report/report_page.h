@@ -3,6 +3,7 @@
 // trajectory top and side views against ground truth, error over time, x/y/z and
 // roll/pitch/yaw against ground truth (the paper's Figure 7), per-module timing bars and a few
 // frames with the tracked points and lines drawn (embedded PNGs).
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -43,6 +44,9 @@ PlotSeries plot_series(const io::Trajectory& estimate, const std::optional<io::T
 
 /// Roll, pitch, yaw (degrees) of R = Rz(yaw) Ry(pitch) Rx(roll).
 Eigen::Vector3d roll_pitch_yaw_deg(const Eigen::Matrix3d& R);
+/// The axes (0 x, 1 y, 2 z) ordered by how far `points` spread along them (max - min), largest
+/// first: the trajectory plots show the plane of the first two (KITTI: x-z) and the first with the third.
+std::array<int, 3> axes_by_extent(const std::vector<Eigen::Vector3d>& points);
 /// Adds multiples of 360 so that consecutive angles differ by less than 180 degrees.
 void unwrap_degrees(std::vector<double>& angles);
 
