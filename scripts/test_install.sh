@@ -15,7 +15,10 @@ cmake -S examples/cpp_minimal -B "$prefix/example" -DCMAKE_PREFIX_PATH="$prefix/
 cmake --build "$prefix/example" -j "${PLLVO_JOBS:-2}" >/dev/null
 
 # Run from elsewhere with no repository around: the models must come from the install.
-(cd "$prefix" && env -u PLLVO_MODELS "$prefix/example/cpp_minimal" "$(realpath "$fixture")" "$prefix/out" > "$prefix/poses.txt")
+(cd "$prefix" && env -u PLLVO_MODELS "$prefix/example/cpp_minimal" "$(realpath "$fixture")" "$prefix/out" \
+   > "$prefix/poses.txt" 2> "$prefix/example.log")
+grep -q "weights $prefix/usr/share/pllvo/models/" "$prefix/example.log" || {
+  echo "test_install: the example did not load the installed weights:"; grep "weights" "$prefix/example.log"; exit 1; }
 frames=$(wc -l < "$prefix/poses.txt")
 tracked=$(grep -c " tracking " "$prefix/poses.txt" || true)
 grep -q '"frontend": "superpoint"' "$prefix/out/stats.json" || { echo "test_install: the example did not run SuperPoint (models not found in the install?)"; exit 1; }
@@ -26,6 +29,9 @@ if [ "$frames" -lt 70 ] || [ "$tracked" -lt $((frames - 5)) ]; then
   echo "test_install: cpp_minimal printed $frames poses, $tracked tracked (expected at least 70, nearly all tracked)"
   exit 1
 fi
-"$prefix/usr/bin/pllvo" config --dump --section nn >/dev/null
+(cd "$prefix" && env -u PLLVO_MODELS "$prefix/usr/bin/pllvo" run "$(realpath "$fixture")" --max-frames 3 --out "$prefix/run" \
+   > /dev/null 2> "$prefix/run.log")
+grep -q "weights $prefix/usr/share/pllvo/models/" "$prefix/run.log" || {
+  echo "test_install: the installed pllvo did not load the installed weights:"; grep "weights" "$prefix/run.log"; exit 1; }
 PYTHONPATH="$prefix/usr/lib/pllvo/python" /usr/bin/python3 -c "import pllvo, sys; assert pllvo._installed_models_dir(), 'installed models not found'; print('python', pllvo.__file__)" >/dev/null
-echo "test_install: installed to a temporary prefix; cpp_minimal tracked $tracked of $frames frames of $(basename "$fixture"); the installed pllvo and Python module load"
+echo "test_install: installed to a temporary prefix; cpp_minimal tracked $tracked of $frames frames of $(basename "$fixture") with the installed weights; the installed pllvo finds them too; the installed Python module loads"
