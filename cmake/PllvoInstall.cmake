@@ -24,7 +24,8 @@ install(FILES "${PROJECT_SOURCE_DIR}/models/pllvo_superpoint_v1.safetensors"
 install(EXPORT pllvoTargets NAMESPACE pllvo:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/pllvo)
 configure_package_config_file("${PROJECT_SOURCE_DIR}/cmake/pllvoConfig.cmake.in"
                               "${PROJECT_BINARY_DIR}/pllvoConfig.cmake"
-                              INSTALL_DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/pllvo)
+                              INSTALL_DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/pllvo
+                              PATH_VARS CMAKE_INSTALL_DATADIR)
 write_basic_package_version_file("${PROJECT_BINARY_DIR}/pllvoConfigVersion.cmake"
                                  COMPATIBILITY SameMinorVersion)
 install(FILES "${PROJECT_BINARY_DIR}/pllvoConfig.cmake" "${PROJECT_BINARY_DIR}/pllvoConfigVersion.cmake"

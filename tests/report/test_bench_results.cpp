@@ -56,6 +56,23 @@ TEST(RunMetrics, ConstantOffsetOnHalfThePosesGivesTheExpectedRmse) {
   EXPECT_GT(m.ate_percent, 0);
 }
 
+TEST(RunMetrics, AStraightLineReferenceStillGetsItsError) {
+  // A slider's ground truth (ecd_slider_hdr_close_149): a straight line, which evo refuses to align.
+  io::Trajectory gt, est;
+  for (int i = 0; i < 100; ++i) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = Eigen::Vector3d(0.01 * i, 0, 0);
+    gt.push_back(0.05 * i, T);
+    T.translation().y() += (i % 2 ? 0.002 : -0.002);  // every pose 2 mm off the line
+    est.push_back(0.05 * i, T);
+  }
+  RunMetrics m;
+  add_trajectory_errors(est, gt, true, 1, m);
+  EXPECT_NEAR(m.ate_rmse_m, 0.002, 1e-4);
+  EXPECT_NEAR(m.ate_percent, 100 * 0.002 / 0.99, 0.01);
+  EXPECT_NEAR(m.rpe_trans_m, 0.004, 5e-4);  // consecutive poses 4 mm apart across the line
+}
+
 TEST(RunMetrics, TooFewPosesLeaveNaN) {
   RunMetrics m;
   add_trajectory_errors(circle(2, 1), circle(100, 1), true, 1, m);

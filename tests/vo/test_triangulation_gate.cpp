@@ -24,16 +24,11 @@ TEST(TriangulationGate, BaselineSubtendsTheAngleAtTheSceneDepth) {
   EXPECT_FALSE(baseline_subtends({camera_at(1, 0, 0)}, current, 0.0, 1.0));  // no scene depth: no decision
 }
 
-TEST(EpipolarTrackWeight, GrowsWithTheAngleOfTheBaselineUpToOne) {
-  // A 6.98 cm baseline subtends 1 deg at 4 m: half weight when 2 deg are asked for, full at 1.
-  const double one_deg = 2.0 * 4.0 * std::tan(0.5 * M_PI / 180.0);
+TEST(BaselineAngle, ASevenCentimetreBaselineSubtendsOneDegreeAtFourMetres) {
+  const double one_deg = 2.0 * 4.0 * std::tan(0.5 * M_PI / 180.0);  // 6.98 cm
   EXPECT_NEAR(baseline_angle_deg({0, 0, 0}, {0, one_deg, 0}, 4.0), 1.0, 1e-12);
-  EXPECT_NEAR(epipolar_track_weight(camera_at(one_deg, 0, 0), camera_at(0, 0, 0), 4.0, 2.0), 0.5, 1e-9);
-  EXPECT_DOUBLE_EQ(epipolar_track_weight(camera_at(one_deg, 0, 0), camera_at(0, 0, 0), 4.0, 1.0), 1.0);
-  EXPECT_DOUBLE_EQ(epipolar_track_weight(camera_at(0, 0, 3), camera_at(0, 0, 3), 4.0, 1.0), 0.0);  // no baseline
-  // Off, or no depth to judge by: every track at full weight.
-  EXPECT_DOUBLE_EQ(epipolar_track_weight(camera_at(0.001, 0, 0), camera_at(0, 0, 0), 4.0, 0.0), 1.0);
-  EXPECT_DOUBLE_EQ(epipolar_track_weight(camera_at(0.001, 0, 0), camera_at(0, 0, 0), 0.0, 1.0), 1.0);
+  EXPECT_NEAR(baseline_angle_deg({0, 0, 0}, {0, 2 * one_deg, 0}, 4.0), 2.0, 1e-3);
+  EXPECT_DOUBLE_EQ(baseline_angle_deg({0, 0, 3}, {0, 0, 3}, 4.0), 0.0);  // no baseline
 }
 
 TEST(TriangulationGate, MedianDepthIsTakenInTheCameraAndSkipsPointsBehindIt) {

@@ -88,11 +88,6 @@ TEST(VoConfig, DefaultYamlMatchesDefaultsInCode) {
   EXPECT_DOUBLE_EQ(file.pose.mono_resume_max_s, code.pose.mono_resume_max_s);
   EXPECT_EQ(file.pose.mono_frame_motion_min_inliers, code.pose.mono_frame_motion_min_inliers);
   EXPECT_DOUBLE_EQ(file.pose.mono_point_uncertainty_px, code.pose.mono_point_uncertainty_px);
-  EXPECT_DOUBLE_EQ(file.pose.mono_epipolar_weight, code.pose.mono_epipolar_weight);
-  EXPECT_DOUBLE_EQ(file.pose.mono_epipolar_full_weight_deg, code.pose.mono_epipolar_full_weight_deg);
-  EXPECT_DOUBLE_EQ(file.pose.mono_epipolar_max_s, code.pose.mono_epipolar_max_s);
-  EXPECT_EQ(file.pose.mono_epipolar_starts, code.pose.mono_epipolar_starts);
-  EXPECT_DOUBLE_EQ(file.pose.mono_epipolar_max_noise, code.pose.mono_epipolar_max_noise);
   EXPECT_EQ(file.pose.mono_frame_motion_max_frames, code.pose.mono_frame_motion_max_frames);
   EXPECT_DOUBLE_EQ(file.pose.mono_frame_motion_max_rotation_change_deg, code.pose.mono_frame_motion_max_rotation_change_deg);
   EXPECT_DOUBLE_EQ(file.pose.mono_frame_motion_max_translation_change_deg,
@@ -222,40 +217,12 @@ TEST(VoConfig, FrameMotionKeysAreReadAndChecked) {
 
 TEST(VoConfig, MonocularPoseTermKeysAreReadAndChecked) {
   EXPECT_DOUBLE_EQ(VoConfig().pose.mono_point_uncertainty_px, 0.0);  // off unless asked for
-  EXPECT_DOUBLE_EQ(VoConfig().pose.mono_epipolar_weight, 0.0);
-  EXPECT_DOUBLE_EQ(VoConfig().pose.mono_epipolar_full_weight_deg, 0.0);
-  const VoConfig c = VoConfig::load(write_yaml(
-      "monoterms",
-      "pose:\n  mono_point_uncertainty_px: 1.5\n  mono_epipolar_weight: 0.5\n  mono_epipolar_full_weight_deg: 2\n"));
+  const VoConfig c = VoConfig::load(write_yaml("monoterms", "pose:\n  mono_point_uncertainty_px: 1.5\n"));
   EXPECT_DOUBLE_EQ(c.pose.mono_point_uncertainty_px, 1.5);
-  EXPECT_DOUBLE_EQ(c.pose.mono_epipolar_weight, 0.5);
-  EXPECT_DOUBLE_EQ(c.pose.mono_epipolar_full_weight_deg, 2.0);
   for (const char* bad : {"mono_point_uncertainty_px: -1", "mono_point_uncertainty_px: .inf"})
     expect_rejected("baduncertainty", std::string("pose:\n  ") + bad + "\n", "pose.mono_point_uncertainty_px");
-  for (const char* bad : {"mono_epipolar_weight: -0.1", "mono_epipolar_weight: .nan"})
-    expect_rejected("badepipolar", std::string("pose:\n  ") + bad + "\n", "pose.mono_epipolar_weight");
-  for (const char* bad : {"mono_epipolar_full_weight_deg: -1", "mono_epipolar_full_weight_deg: .inf"})
-    expect_rejected("badepipolardeg", std::string("pose:\n  ") + bad + "\n", "pose.mono_epipolar_full_weight_deg");
-}
-
-TEST(VoConfig, EpipolarTrackGatesAreReadCheckedAndApplied) {
-  const VoConfig c = VoConfig::load(write_yaml(
-      "epigates", "pose:\n  mono_epipolar_weight: 0.5\n  mono_epipolar_max_s: 1.5\n"
-                  "  mono_epipolar_starts: homography\n  mono_epipolar_max_noise: 3\n"));
-  const PoseConfig& p = c.pose;
-  EXPECT_DOUBLE_EQ(p.mono_epipolar_max_s, 1.5);
-  EXPECT_DOUBLE_EQ(p.epipolar_weight_at(1.0, "homography", 1.2), 0.5);  // young map, weak start, clean frame
-  EXPECT_DOUBLE_EQ(p.epipolar_weight_at(1.6, "homography", 1.2), 0.0);  // later than 1.5 s after the start
-  EXPECT_DOUBLE_EQ(p.epipolar_weight_at(1.0, "essential", 1.2), 0.0);   // a well-conditioned start
-  EXPECT_DOUBLE_EQ(p.epipolar_weight_at(1.0, "homography", 3.0), 0.0);  // a noisy (low-light) frame
-  // Open gates let every frame in; the weight at 0 keeps the tracks out.
-  const PoseConfig open = VoConfig::load(write_yaml("epiopen", "pose:\n  mono_epipolar_weight: 1\n")).pose;
-  EXPECT_DOUBLE_EQ(open.epipolar_weight_at(100.0, "essential", 20.0), 1.0);
-  EXPECT_DOUBLE_EQ(VoConfig().pose.epipolar_weight_at(0.0, "homography", 0.0), 0.0);
-  for (const char* bad : {"mono_epipolar_max_s: -1", "mono_epipolar_starts: planar", "mono_epipolar_max_noise: .nan"}) {
-    const std::string key = std::string(bad).substr(0, std::string(bad).find(':'));
-    expect_rejected("badepigate", std::string("pose:\n  ") + bad + "\n", "pose." + key);
-  }
+  // Epipolar track terms are not part of the pose (measured, not kept: docs/experiments.md): unknown keys.
+  expect_rejected("epipolargone", "pose:\n  mono_epipolar_weight: 0.5\n", "mono_epipolar_weight");
 }
 
 TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {

@@ -75,40 +75,6 @@ class Linearization {
     return true;
   }
 
-  /// Sampson error (pixels, weighted) of epipolar observation i; J by central differences.
-  bool epipolar(const Pose& T_cam0_world, size_t i, double& r, Eigen::Matrix<double, 1, 6>* J) const {
-    if (!sampson(T_cam0_world, i, r)) return false;
-    if (J) {
-      constexpr double h = 1e-7;
-      for (int k = 0; k < 6; ++k) {
-        Vector6d d = Vector6d::Zero();
-        d[k] = h;
-        double rp = 0, rm = 0;
-        if (!sampson(geometry::apply_left_increment(d, T_cam0_world), i, rp) ||
-            !sampson(geometry::apply_left_increment(-d, T_cam0_world), i, rm))
-          return false;
-        (*J)(0, k) = (rp - rm) / (2 * h);
-      }
-    }
-    return true;
-  }
-
-  bool sampson(const Pose& T_cam0_world, size_t i, double& r) const {
-    const auto& o = problem_.epipolar[i];
-    const Pose T_cur_first = T_cam0_world * o.T_world_first;
-    const Eigen::Vector3d t = T_cur_first.translation();
-    if (t.norm() < 1e-9) return false;
-    Eigen::Matrix3d tx;
-    tx << 0, -t.z(), t.y(), t.z(), 0, -t.x(), -t.y(), t.x(), 0;
-    const Eigen::Matrix3d E = tx * T_cur_first.linear() / t.norm();
-    const Eigen::Vector3d x0(o.xy_first.x(), o.xy_first.y(), 1), x1(o.xy.x(), o.xy.y(), 1);
-    const Eigen::Vector3d Ex0 = E * x0, Etx1 = E.transpose() * x1;
-    const double d = Ex0.head<2>().squaredNorm() + Etx1.head<2>().squaredNorm();
-    if (d < 1e-18) return false;
-    r = problem_.epipolar_weight * o.weight * problem_.focal_px * x1.dot(Ex0) / std::sqrt(d);
-    return true;
-  }
-
   /// Vanishing-point error (pixels, weighted) of direction observation i; J (rotation
   /// columns only: a direction does not see the translation) by central differences.
   bool direction(const Pose& T_cam0_world, size_t i, double& r, Eigen::Matrix<double, 1, 6>* J) const {
@@ -165,8 +131,6 @@ class Linearization {
     for (size_t i = 0; i < problem_.lines.size(); ++i)
       if (line_active[i]) sum += config_.line_loss.rho(line(T, i, r, nullptr) ? r.squaredNorm() : invalid_s());
     double re = 0;
-    for (size_t i = 0; i < problem_.epipolar.size(); ++i)
-      if (epipolar(T, i, re, nullptr)) sum += config_.point_loss.rho(re * re);
     for (size_t i = 0; i < problem_.directions.size(); ++i)
       if (direction(T, i, re, nullptr)) sum += config_.line_loss.rho(re * re);
     Vector6d rp;
@@ -195,12 +159,6 @@ class Linearization {
     }
     double re = 0;
     Eigen::Matrix<double, 1, 6> Je;
-    for (size_t i = 0; i < problem_.epipolar.size(); ++i) {
-      if (!epipolar(T, i, re, &Je)) continue;
-      const double w = config_.point_loss.weight(re * re);
-      H.noalias() += w * Je.transpose() * Je;
-      g.noalias() += w * Je.transpose() * re;
-    }
     for (size_t i = 0; i < problem_.directions.size(); ++i) {
       if (!direction(T, i, re, &Je)) continue;
       const double w = config_.line_loss.weight(re * re);

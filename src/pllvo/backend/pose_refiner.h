@@ -1,8 +1,7 @@
 #pragma once
 // Robust refinement of one camera pose against a fixed map: point reprojection errors plus
 // line errors (distances of the projected 3-D segment endpoints to the observed 2-D lines),
-// Huber or Cauchy loss, optional motion prior, optional epipolar errors of tracks without a
-// map point (robust like the points, never classified as outliers), optional vanishing-point
+// Huber or Cauchy loss, optional motion prior, optional vanishing-point
 // errors of segments parallel to known directions (robust like the lines, never classified).
 // Solved by Levenberg-Marquardt with iteratively reweighted normal equations on the 6-DoF
 // pose (hand-written: a per-frame solve of ~10 small iterations, where building a Ceres
@@ -59,15 +58,6 @@ struct PoseLineObservation {
   int camera = 0;
 };
 
-/// A track without a map point: seen at `xy_first` by a camera at `T_world_first` and at `xy`
-/// now (normalised coordinates). Its epipolar (Sampson) error constrains the rotation and the
-/// direction of the motion since that view, not its length.
-struct PoseEpipolarObservation {
-  geometry::Pose T_world_first;
-  Eigen::Vector2d xy_first, xy;
-  double weight = 1.0;  ///< times the problem's epipolar_weight
-};
-
 /// A segment (camera 0) parallel to a known 3-D direction: its distance from pointing at the
 /// direction's vanishing point constrains the rotation alone (geometry::vanishing_residual).
 struct PoseDirectionObservation {
@@ -82,8 +72,6 @@ struct PoseRefinementProblem {
   double focal_px = 1.0;  ///< pixels per normalised unit (geometry::pixel_scale)
   std::optional<Pose> predicted_T_world_cam;  ///< motion-model prediction for the prior
   std::vector<Pose> T_cam_cam0;                ///< rig extrinsics by camera index; empty: mono
-  std::vector<PoseEpipolarObservation> epipolar;  ///< mono: tracks without a map point
-  double epipolar_weight = 0;                     ///< multiplies their residuals (pixels); 0: unused
   /// Segments parallel to known directions; robust with the line loss, never classified.
   std::vector<PoseDirectionObservation> directions;
   double direction_weight = 0;  ///< multiplies their residuals (pixels); 0: unused

@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include "pllvo/eval/evaluator.h"
+#include "pllvo/vo/trajectory_error.h"
 
 namespace pllvo::report {
 namespace {
@@ -58,17 +59,18 @@ std::map<std::string, double> RunMetrics::values() const {
 void add_trajectory_errors(const io::Trajectory& estimate, const io::Trajectory& reference, bool metric_scale,
                            size_t rpe_delta_frames, RunMetrics& m) {
   if (estimate.size() < 3 || reference.size() < 3 || !reference.has_stamps()) return;
+  // The APE as `pllvo run` reports it, a straight-line reference (evo refuses it) included.
+  const auto ate = vo::trajectory_error(estimate, reference, metric_scale);
+  if (!ate) return;
+  m.ate_rmse_m = ate->rmse_m;
+  m.ate_percent = ate->path_length_m > 0 ? ate->percent_of_path : NAN;
   eval::EvalOptions options;
   options.align = metric_scale ? eval::AlignMode::se3 : eval::AlignMode::sim3;
+  options.allow_collinear = ate->collinear_reference;
   options.rpe.delta = static_cast<double>(std::max<size_t>(1, rpe_delta_frames));
   try {
     const eval::Evaluator evaluator(options);
     const auto prepared = evaluator.prepare(reference, estimate);
-    m.ate_rmse_m = evaluator.ape(prepared, eval::PoseRelation::trans_part).stats.rmse;
-    double path = 0;
-    for (size_t i = 1; i < prepared.ref.size(); ++i)
-      path += (prepared.ref[i].translation() - prepared.ref[i - 1].translation()).norm();
-    m.ate_percent = path > 0 ? 100.0 * m.ate_rmse_m / path : NAN;
     if (prepared.ref.size() > options.rpe.delta) {
       m.rpe_trans_m = evaluator.rpe(prepared, eval::PoseRelation::trans_part).stats.rmse;
       m.rpe_rot_deg = evaluator.rpe(prepared, eval::PoseRelation::angle_deg).stats.rmse;

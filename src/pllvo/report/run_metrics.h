@@ -47,7 +47,8 @@ struct RunMetrics {
 
 /// APE (translation) and RPE (translation, rotation angle) of `estimate` against `reference`,
 /// SE3 alignment when `metric_scale`, else Sim3; RPE pairs `rpe_delta_frames` estimate poses
-/// apart. Fields stay NaN when fewer than 3 poses match or the alignment is degenerate.
+/// apart. The APE is vo::trajectory_error's (as `pllvo run` reports it: a straight-line reference
+/// is aligned too). Fields stay NaN when fewer than 3 poses match or the alignment is degenerate.
 void add_trajectory_errors(const io::Trajectory& estimate, const io::Trajectory& reference, bool metric_scale,
                            size_t rpe_delta_frames, RunMetrics& m);
 

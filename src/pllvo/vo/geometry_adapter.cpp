@@ -81,7 +81,6 @@ PoseEstimate estimate_pose(const Pinhole& cam, const std::vector<Eigen::Vector3d
     used.push_back(static_cast<int>(i));
   }
   for (const auto& l : lines) problem.lines.push_back({l.start_world, l.end_world, observed_line(cam, l.observed), 0});
-  if (extras.epipolar_weight > 0) problem.epipolar = extras.epipolar, problem.epipolar_weight = extras.epipolar_weight;
   if (extras.direction_weight > 0)
     problem.directions = extras.directions, problem.direction_weight = extras.direction_weight;
   const auto refined = backend::PoseRefiner(backend.pose_refiner).refine(problem);
@@ -139,13 +138,6 @@ bool baseline_subtends(const std::vector<geometry::Pose>& T_world_views, const g
   for (const auto& T : T_world_views)
     widest = std::max(widest, baseline_angle_deg(T.translation(), T_world_cam.translation(), depth));
   return depth > 0 && widest >= min_parallax_deg;
-}
-
-double epipolar_track_weight(const geometry::Pose& T_world_first, const geometry::Pose& T_world_cam, double depth,
-                             double full_weight_deg) {
-  if (full_weight_deg <= 0 || depth <= 0) return 1.0;
-  return std::min(1.0, baseline_angle_deg(T_world_first.translation(), T_world_cam.translation(), depth) /
-                           full_weight_deg);
 }
 
 std::vector<double> reprojection_errors_px(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,

@@ -43,12 +43,10 @@ struct PoseEstimate {
   bool from_pnp = false;  ///< false: refined from the prediction alone (PnP failed)
 };
 
-/// Monocular terms of a frame's pose refinement (pose.mono_point_uncertainty_px,
-/// pose.mono_epipolar_weight).
+/// Terms of a frame's pose refinement beside the points and lines (pose.mono_point_uncertainty_px,
+/// directions).
 struct PoseExtras {
   std::vector<double> point_weights;  ///< empty, or one per point: scale its residual
-  std::vector<backend::PoseEpipolarObservation> epipolar;  ///< tracks without a map point
-  double epipolar_weight = 0;                              ///< 0: the tracks are not used
   std::vector<backend::PoseDirectionObservation> directions;  ///< segments parallel to known directions
   double direction_weight = 0;                               ///< 0: the directions are not used
 };
@@ -130,12 +128,6 @@ std::optional<geometry::Pose> follow_keyframe_adjustment(const Pinhole& cam,
 /// order; that displacement is projected into the camera. Without a second view: 1e9.
 double depth_uncertainty_px(const Pinhole& cam, const Eigen::Vector3d& p_world,
                             const std::vector<Eigen::Vector3d>& keyframe_centres, const geometry::Pose& T_world_cam);
-
-/// Weight of a monocular track's epipolar error (pose.mono_epipolar_full_weight_deg):
-/// min(1, angle its first view's baseline to the camera subtends at `depth` / `full_weight_deg`).
-/// 1 when `full_weight_deg` is 0 (off) or the depth is unknown.
-double epipolar_track_weight(const geometry::Pose& T_world_first, const geometry::Pose& T_world_cam, double depth,
-                             double full_weight_deg);
 
 /// Median of the depths of `points_world` in the camera at `T_world_cam`; 0 when there are none.
 double median_depth(const std::vector<Eigen::Vector3d>& points_world, const geometry::Pose& T_world_cam);

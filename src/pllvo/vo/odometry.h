@@ -128,9 +128,8 @@ class Odometry {
   /// `result`'s bundle-adjustment correction.
   void drop_inconsistent_tracks(std::vector<TrackedPoint>& tracks, const KeyframeResult& result);
   void drop_inconsistent_lines(std::vector<TrackedLine>& lines) const;
-  /// `start_model`: the two-view start's model (homography | essential); empty for a stereo
-  /// start or a resumed map.
-  void start_tracking(const KeyframeResult& result, double timestamp, const std::string& start_model = {});
+  /// Tracking from a new or resumed map (its keyframe's tracks and lines) from `timestamp` on.
+  void start_tracking(const KeyframeResult& result, double timestamp);
   /// Poses of the frames seen during monocular initialisation, by PnP on the new map.
   void localize_init_frames(const MonoReference& ref, const std::vector<std::optional<Eigen::Vector3d>>& points,
                             const geometry::Pose& T_world_ref);
@@ -214,8 +213,6 @@ class Odometry {
   bool has_velocity_ = false;
   int lost_frames_ = 0;
   int frame_motion_run_ = 0;  ///< consecutive frames posed by pose_from_frame_motion
-  double map_start_time_ = 0;  ///< timestamp of the current map's start (start_tracking)
-  std::string map_start_model_;  ///< model of its two-view start (homography | essential; else empty)
   /// The last tracked frame, and the mean position step per frame before it, kept over a reset
   /// (restart_pose), from the positions of the last consecutive tracked frames.
   size_t last_tracked_index_ = 0;

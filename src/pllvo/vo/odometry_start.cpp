@@ -179,7 +179,7 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   localize_init_frames(ref, ref_points, T_world_ref);
   mono_.reset();
   T_world_work_ = T_world_cur;
-  start_tracking(result, frame.timestamp, two_view.model);
+  start_tracking(result, frame.timestamp);
   const std::string held = config_.geometry.two_view.vanishing_sigma_deg > 0
                                ? fmt::format(", rotation held by {} of {}/{} directions", two_view.vanishing_pairs,
                                              directions.cam0.size(), directions.cam1.size())
@@ -221,10 +221,8 @@ void Odometry::localize_init_frames(const MonoReference& ref,
   }
 }
 
-void Odometry::start_tracking(const KeyframeResult& result, double timestamp, const std::string& start_model) {
+void Odometry::start_tracking(const KeyframeResult& result, double timestamp) {
   state_ = TrackingState::kTracking;
-  map_start_time_ = timestamp;
-  map_start_model_ = start_model;
   tracks_ = result.tracks;
   line_tracks_ = result.lines;
   set_reference_lines(line_tracks_);

@@ -129,21 +129,11 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   // Monocular: a map point's depth uncertainty in this image, from its keyframes' rays.
   const double uncertainty_px = rectifier_.stereo() ? 0.0 : config_.pose.mono_point_uncertainty_px;
   std::vector<double> weights(uncertainty_px > 0 ? tracks_.size() : 0, 1.0);
-  // Monocular: tracks without a map point constrain the rotation and the direction of motion
-  // since their first keyframe (pose.mono_epipolar_weight).
   PoseExtras extras;
-  extras.epipolar_weight =
-      rectifier_.stereo()
-          ? 0.0
-          : config_.pose.epipolar_weight_at(frame.timestamp - map_start_time_, map_start_model_, frame_noise_);
-  std::vector<std::optional<FeatureView>> first_view(tracks_.size());
   map_.read([&](const MapData& m) {
     for (size_t i = 0; i < tracks_.size(); ++i) {
       auto it = m.points.find(tracks_[i].point);
-      if (it == m.points.end()) {
-        if (extras.epipolar_weight > 0) first_view[i] = m.feature_view(tracks_[i].origin);
-        continue;
-      }
+      if (it == m.points.end()) continue;
       positions[i] = it->second.position, known[i] = 1;
       if (!weights.empty()) weights[i] = uncertainty_weight(m, it->second, camera_, T_world_pred, uncertainty_px);
     }
@@ -223,13 +213,6 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     px.push_back(to_eigen(tr.points[i]));
     if (!weights.empty()) extras.point_weights.push_back(weights[i]);
   }
-  const double full_weight_deg = config_.pose.mono_epipolar_full_weight_deg;
-  const double depth = extras.epipolar_weight > 0 && full_weight_deg > 0 ? median_depth(pts, T_world_pred) : 0.0;
-  for (size_t i = 0; i < tracks_.size(); ++i)
-    if (first_view[i] && tr.ok[i])
-      extras.epipolar.push_back({first_view[i]->T_world_cam, camera_.normalised(first_view[i]->px),
-                                 camera_.normalised(to_eigen(tr.points[i])),
-                                 epipolar_track_weight(first_view[i]->T_world_cam, T_world_pred, depth, full_weight_deg)});
 
   std::vector<DirectionSegment> dir_segments;
   if (use_directions_) {

@@ -102,11 +102,6 @@ void read_pose(const ConfigNode& n, PoseConfig& c) {
   n.get("mono_frame_motion_max_translation_change_deg", c.mono_frame_motion_max_translation_change_deg);
   n.get("mono_frame_motion_translation_sigma_deg", c.mono_frame_motion_translation_sigma_deg);
   n.get("mono_point_uncertainty_px", c.mono_point_uncertainty_px);
-  n.get("mono_epipolar_weight", c.mono_epipolar_weight);
-  n.get("mono_epipolar_full_weight_deg", c.mono_epipolar_full_weight_deg);
-  n.get("mono_epipolar_max_s", c.mono_epipolar_max_s);
-  n.get("mono_epipolar_starts", c.mono_epipolar_starts);
-  n.get("mono_epipolar_max_noise", c.mono_epipolar_max_noise);
   n.reject_unknown_keys();
 }
 
@@ -296,16 +291,6 @@ void VoConfig::validate(const std::filesystem::path& file) const {
           "pose.mono_frame_motion_min_inliers", "must be 0 (off) or at least 8 (the essential matrix's sample)");
   require(pose.mono_point_uncertainty_px >= 0 && std::isfinite(pose.mono_point_uncertainty_px), file,
           "pose.mono_point_uncertainty_px", "must be >= 0 (0: off)");
-  require(pose.mono_epipolar_weight >= 0 && std::isfinite(pose.mono_epipolar_weight), file, "pose.mono_epipolar_weight",
-          "must be >= 0 (0: off)");
-  require(pose.mono_epipolar_full_weight_deg >= 0 && std::isfinite(pose.mono_epipolar_full_weight_deg), file,
-          "pose.mono_epipolar_full_weight_deg", "must be >= 0 (0: every track at full weight)");
-  require(pose.mono_epipolar_max_s >= 0 && std::isfinite(pose.mono_epipolar_max_s), file, "pose.mono_epipolar_max_s",
-          "must be >= 0 (0: always)");
-  require(pose.mono_epipolar_starts == "any" || pose.mono_epipolar_starts == "homography", file,
-          "pose.mono_epipolar_starts", "must be any or homography (got '" + pose.mono_epipolar_starts + "')");
-  require(pose.mono_epipolar_max_noise >= 0 && std::isfinite(pose.mono_epipolar_max_noise), file,
-          "pose.mono_epipolar_max_noise", "must be >= 0 (0: any frame)");
   require(pose.mono_frame_motion_max_frames >= 1, file, "pose.mono_frame_motion_max_frames", "must be at least 1");
   require(pose.mono_frame_motion_max_rotation_change_deg > 0 && pose.mono_frame_motion_max_rotation_change_deg <= 180,
           file, "pose.mono_frame_motion_max_rotation_change_deg", "must be in (0, 180]");
@@ -364,14 +349,6 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(klt.stereo_min_horizontal_share >= 0 && klt.stereo_min_horizontal_share < 1, file,
           "klt.stereo_min_horizontal_share", "must be in [0, 1) (0: off)");
   require(klt.stereo_min_signal_to_noise >= 0, file, "klt.stereo_min_signal_to_noise", "must be >= 0 (0: off)");
-}
-
-double PoseConfig::epipolar_weight_at(double seconds_since_start, const std::string& start_model,
-                                      double image_noise) const {
-  const bool young = mono_epipolar_max_s <= 0 || seconds_since_start <= mono_epipolar_max_s;
-  const bool weak_start = mono_epipolar_starts == "any" || start_model == mono_epipolar_starts;
-  const bool clean = mono_epipolar_max_noise <= 0 || image_noise < mono_epipolar_max_noise;
-  return young && weak_start && clean ? mono_epipolar_weight : 0.0;
 }
 
 }  // namespace pllvo::vo

@@ -247,40 +247,6 @@ struct PoseConfig {
   /// medium_lowlight within its spread, difficult_lowlight worse (docs/vo.md).
   /// Pixels; 0: off.
   double mono_point_uncertainty_px = 0.0;
-  /// Monocular pose: every KLT track without a map point adds its epipolar (Sampson) error
-  /// against its first keyframe, times this weight, to the refinement (robust, as the points).
-  /// It constrains the rotation and the direction of motion, not the step's length, so a
-  /// thin map (a fast turn, a start from a low-parallax pair) holds its orientation. Used
-  /// throughout a run it was neutral in low light and worse in normal light
-  /// (docs/experiments.md). Confined by the gates below to correcting weak starts (weight 1, 1 deg, 1.5 s,
-  /// homography, noise 3) it removed the single-thread ~7 % runs but made threaded runs worse
-  /// (medium_normal start 0 0.55 -> 1.09 %, start 3 0.82 -> 7.28 %; docs/vo.md). 0: off.
-  double mono_epipolar_weight = 0.0;
-  /// Each such track's epipolar error is scaled by min(1, a / this), a (degrees) being the
-  /// angle its first keyframe's baseline to the predicted camera subtends at the map's median
-  /// depth: a track seen from almost the same place says little about the direction of motion
-  /// but its noise would still pull it. 0: every track at full weight.
-  double mono_epipolar_full_weight_deg = 0.0;
-  /// The epipolar tracks are used only this many seconds after a map's start (0: always).
-  /// Their work is to correct a two-view start's direction of motion before the map inherits
-  /// it; used throughout (3 s too) they lost medium_lowtexture at frame ~147 and put
-  /// medium_flicker start 0 at 0.9-3.0 % (0.48 without).
-  double mono_epipolar_max_s = 0.0;
-  /// ...and only after these two-view starts: "any" or "homography". A homography decomposed
-  /// at 1-2 deg of parallax leaves the direction of motion ill-conditioned: the ~7 % runs of
-  /// medium_normal / medium_sudden / medium_lightoff (start 3) follow one 48 deg off, which the
-  /// tracks correct within ~2 s. After essential starts they were neutral on average (13 runs:
-  /// 0.88 against 0.92 %) but put easy_normal starts 0, 1 and 3 over 1 % (docs/vo.md).
-  std::string mono_epipolar_starts = "any";
-  /// ...and only on frames with less image noise than this (grey levels, after the brightness
-  /// gain; 0: any frame; normal-light frames measure 0.5-2.4, low-light ones 3.3-8). Every
-  /// variant measured worsened difficult_lowlight (starts 0-3 mean 5.9-8.9 against 5.2 %) and
-  /// moved medium_lowlight either way (1.96-3.83 against 2.45 %; docs/vo.md).
-  double mono_epipolar_max_noise = 0.0;
-
-  /// mono_epipolar_weight where the gates above let the tracks in (`seconds_since_start` of the
-  /// map, the model of its two-view start, the frame's image noise), else 0.
-  double epipolar_weight_at(double seconds_since_start, const std::string& start_model, double image_noise) const;
 };
 
 /// New keyframes: their features without a point matched with recent keyframes' points by
