@@ -138,12 +138,6 @@ void BM_LightGlue(benchmark::State& state) {
 BENCHMARK(BM_LightGlue)->ArgNames({"keypoints", "adaptive", "threads"})->ArgsProduct({{512, 1024}, {0, 1}, {1, 2}})
     ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
 
-// OpenBLAS's own thread count, apart from LibTorch's (set_num_threads sets both).
-void set_blas_threads(int n) {
-  using SetThreads = void (*)(int);
-  if (auto* f = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) f(n);
-}
-
 // Multiply-adds x 2 of LightGlue's full forward pass (no early exit, no pruning) with n0 and n1
 // keypoints, descriptor width d and `layers` layers, counted from lightglue.cpp's products: per layer
 // and image, self-attention (qkv 6nd^2, QK^T and AV 4n^2 d, out 2nd^2, FFN 2d->2d->d 12nd^2) and
@@ -173,11 +167,9 @@ double sgemm_gflops(int n, int d) {
 
 // LightGlue's forward pass against its FLOP count and the sgemm rate measured in the same run: `limit_ms`
 // is the time the products alone would take at that rate. `threads` as the pipeline sets them
-// (set_num_threads; LightGlue::match then runs LibTorch's pool at one thread, nn::MatmulThreads);
-// blas_threads 0 keeps that, else OpenBLAS gets this many (torch 2 / BLAS 1 shows the other split).
+// (set_num_threads; LightGlue::match then runs LibTorch's pool at one thread, nn::MatmulThreads).
 void BM_LightGlueFlops(benchmark::State& state) {
   set_num_threads(static_cast<int>(state.range(1)));
-  if (state.range(2) > 0) set_blas_threads(static_cast<int>(state.range(2)));
   const auto& [f0, f1] = Inputs::get().pairs.at(static_cast<int>(state.range(0)));
   const LightGlue& lg = lightglue(false);
   const double rate = sgemm_gflops(static_cast<int>(f0.size()), 256);
@@ -192,8 +184,7 @@ void BM_LightGlueFlops(benchmark::State& state) {
   state.counters["limit_ms"] = 1e3 * flops / 1e9 / rate;
   state.counters["achieved_gflops"] = benchmark::Counter(flops / 1e9, benchmark::Counter::kIsIterationInvariantRate);
 }
-BENCHMARK(BM_LightGlueFlops)->ArgNames({"keypoints", "threads", "blas_threads"})
-    ->Args({512, 1, 0})->Args({512, 2, 0})->Args({1024, 1, 0})->Args({1024, 2, 0})
+BENCHMARK(BM_LightGlueFlops)->ArgNames({"keypoints", "threads"})->ArgsProduct({{512, 1024}, {1, 2}})
     ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
 
 void BM_Mnn(benchmark::State& state) {

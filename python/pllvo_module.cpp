@@ -52,6 +52,16 @@ py::array_t<double> to_numpy(const Eigen::Matrix4d& m) {
   return a;
 }
 
+/// One row per vector: (N, D).
+template <typename Scalar, int D>
+py::array_t<Scalar> rows(const std::vector<Eigen::Matrix<Scalar, D, 1>>& vectors) {
+  py::array_t<Scalar> a({static_cast<py::ssize_t>(vectors.size()), py::ssize_t{D}});
+  auto m = a.template mutable_unchecked<2>();
+  for (size_t i = 0; i < vectors.size(); ++i)
+    for (int j = 0; j < D; ++j) m(i, j) = vectors[i](j);
+  return a;
+}
+
 /// (stamps (N,), poses (N, 4, 4)).
 py::tuple to_numpy(const std::vector<pllvo::StampedPose>& poses) {
   const auto n = static_cast<py::ssize_t>(poses.size());
@@ -140,13 +150,6 @@ py::object run(const std::string& dataset, const std::string& out, const std::st
   return json_to_python(stats);
 }
 
-std::vector<pllvo::eval::Metric> metrics_of(const std::string& name) {
-  if (name == "ape") return {pllvo::eval::Metric::ape};
-  if (name == "rpe") return {pllvo::eval::Metric::rpe};
-  if (name == "both") return {pllvo::eval::Metric::ape, pllvo::eval::Metric::rpe};
-  throw pllvo::InputError("unknown metric '" + name + "' (use ape, rpe or both)");
-}
-
 py::object evaluate(const std::string& est, const std::string& ref, const std::string& metric,
                     const std::vector<std::string>& relations, const std::string& align, const std::string& ref_format,
                     long n_to_align, bool align_origin, std::optional<double> t_max_diff,
@@ -157,7 +160,7 @@ py::object evaluate(const std::string& est, const std::string& ref, const std::s
   request.est_file = est;
   request.ref_file = ref;
   request.ref_format = eval::parse_trajectory_format(ref_format);
-  request.metrics = metrics_of(metric);
+  request.metrics = eval::parse_metrics(metric);
   request.relations.clear();
   for (const auto& r : relations) request.relations.push_back(eval::parse_pose_relation(r));
   eval::EvalOptions& o = request.options;
@@ -249,24 +252,9 @@ PYBIND11_MODULE(_pllvo, m) {
       .def_readonly("tracked_lines", &pllvo::TrackResult::tracked_lines)
       .def_readonly("keyframe", &pllvo::TrackResult::keyframe)
       .def_readonly("map_segment", &pllvo::TrackResult::map_segment)
-      .def_property_readonly("points",
-                             [](const pllvo::TrackResult& r) {
-                               py::array_t<float> a({static_cast<py::ssize_t>(r.points.size()), py::ssize_t{2}});
-                               auto v = a.mutable_unchecked<2>();
-                               for (size_t i = 0; i < r.points.size(); ++i) {
-                                 v(i, 0) = r.points[i].x();
-                                 v(i, 1) = r.points[i].y();
-                               }
-                               return a;
-                             })
+      .def_property_readonly("points", [](const pllvo::TrackResult& r) { return rows(r.points); })
       .def_readonly("point_in_map", &pllvo::TrackResult::point_in_map)
-      .def_property_readonly("lines", [](const pllvo::TrackResult& r) {
-        py::array_t<float> a({static_cast<py::ssize_t>(r.lines.size()), py::ssize_t{4}});
-        auto v = a.mutable_unchecked<2>();
-        for (size_t i = 0; i < r.lines.size(); ++i)
-          for (int j = 0; j < 4; ++j) v(i, j) = r.lines[i](j);
-        return a;
-      });
+      .def_property_readonly("lines", [](const pllvo::TrackResult& r) { return rows(r.lines); });
 
   py::class_<PyOdometry>(m, "Odometry")
       .def(py::init([](const pllvo::Calibration& calibration, const std::string& config, const py::dict& overrides,
@@ -310,15 +298,7 @@ PYBIND11_MODULE(_pllvo, m) {
       .def("trajectory", [](const PyOdometry& self) { return to_numpy(self.odometry->trajectory()); },
            "(stamps (N,), T_world_cam0 (N, 4, 4)) of the tracked frames")
       .def("keyframes", [](const PyOdometry& self) { return to_numpy(self.odometry->keyframes()); })
-      .def("map_points",
-           [](const PyOdometry& self) {
-             const auto points = self.odometry->map_points();
-             py::array_t<double> a({static_cast<py::ssize_t>(points.size()), py::ssize_t{3}});
-             auto v = a.mutable_unchecked<2>();
-             for (size_t i = 0; i < points.size(); ++i)
-               for (int j = 0; j < 3; ++j) v(i, j) = points[i](j);
-             return a;
-           })
+      .def("map_points", [](const PyOdometry& self) { return rows(self.odometry->map_points()); })
       .def_property_readonly("stereo", [](const PyOdometry& self) { return self.odometry->stereo(); })
       .def("stats", [](const PyOdometry& self) { return json_to_python(self.odometry->report().stats_json); },
            "stats.json as a dict (after finish())")

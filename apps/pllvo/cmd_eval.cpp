@@ -42,13 +42,6 @@ eval::EvalOptions options_from(const EvalArgs& a, const CLI::App& cmd) {
   return o;
 }
 
-std::vector<eval::Metric> metrics_from(const std::string& name) {
-  if (name == "ape") return {eval::Metric::ape};
-  if (name == "rpe") return {eval::Metric::rpe};
-  if (name == "both") return {eval::Metric::ape, eval::Metric::rpe};
-  throw InputError("unknown metric '" + name + "' (use ape, rpe or both)");
-}
-
 }  // namespace
 
 void add_eval_command(CLI::App& app) {
@@ -103,7 +96,7 @@ void add_eval_command(CLI::App& app) {
     request.ref_file = args->ref;
     request.ref_format = eval::parse_trajectory_format(args->ref_format);
     request.options = options_from(*args, *cmd);
-    request.metrics = metrics_from(args->metric);
+    request.metrics = eval::parse_metrics(args->metric);
     request.relations.clear();
     for (const auto& r : args->relations) request.relations.push_back(eval::parse_pose_relation(r));
 

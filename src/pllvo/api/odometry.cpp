@@ -6,6 +6,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "pllvo/common/yaml_config.h"
 #include "pllvo/report/config_overrides.h"
 #include "pllvo/vo/odometry_session.h"
 #include "pllvo/vo/vo_config.h"
@@ -16,16 +17,10 @@ namespace {
 vo::VoConfig config_from(const OdometryOptions& options) {
   // Without overrides, exactly `VoConfig::load`: its errors name the file and line.
   if (options.overrides.empty()) return options.config_yaml.empty() ? vo::VoConfig() : vo::VoConfig::load(options.config_yaml);
-  YAML::Node base;
+  YAML::Node base;  // null: the defaults
   std::string source = "odometry options";
   if (!options.config_yaml.empty()) {
-    if (!std::filesystem::is_regular_file(options.config_yaml))
-      throw InputError(options.config_yaml, "VO config: no such file");
-    try {
-      base = YAML::LoadFile(options.config_yaml.string());
-    } catch (const YAML::Exception& e) {
-      throw InputError(options.config_yaml, e.mark.line + 1, std::string("malformed YAML: ") + e.msg);
-    }
+    base = ConfigNode::load_file(options.config_yaml).raw();  // missing or malformed: InputError with the line
     source = options.config_yaml.string();
   }
   std::vector<report::ConfigOverride> overrides;

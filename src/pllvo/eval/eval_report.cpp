@@ -48,6 +48,13 @@ nlohmann::json matrix_json(const Eigen::MatrixXd& m) {
 
 }  // namespace
 
+std::vector<Metric> parse_metrics(const std::string& name) {
+  if (name == "ape") return {Metric::ape};
+  if (name == "rpe") return {Metric::rpe};
+  if (name == "both") return {Metric::ape, Metric::rpe};
+  throw InputError("unknown metric '" + name + "' (use ape, rpe or both)");
+}
+
 EvalReport run_evaluation(const EvalRequest& request) {
   const Evaluator evaluator(request.options);
   const auto input = load_trajectories(request.est_file, request.ref_file, request.ref_format);

@@ -27,6 +27,9 @@ struct EvalReport {
   std::vector<MetricResult> results;  ///< metrics x relations, in request order
 };
 
+/// "ape", "rpe" or "both" (the CLI's --metric); InputError for another name.
+std::vector<Metric> parse_metrics(const std::string& name);
+
 /// Loads, associates, aligns and computes every requested metric and relation. Every error is
 /// an InputError naming the file at fault (evaluation errors name the estimate and reference).
 EvalReport run_evaluation(const EvalRequest& request);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
@@ -277,6 +278,23 @@ void OdometrySession::save(const RunSummary& summary, const std::filesystem::pat
   write_trajectory_tum(summary.keyframe_trajectory, dir / "keyframes.tum");
   write_map_ply(summary.map, dir / "map.ply");
   write_json(summary.stats, dir / "stats.json");
+}
+
+ProgressReport::ProgressReport(double interval_s, std::function<void(const std::string&)> callback)
+    : interval_s_(interval_s), callback_(std::move(callback)), start_(Clock::now()), last_(start_) {}
+
+void ProgressReport::after_frame(const OdometrySession& session, size_t done, size_t total) {
+  if (!callback_ || interval_s_ <= 0) return;
+  const auto now = Clock::now();
+  if (std::chrono::duration<double>(now - last_).count() < interval_s_) return;
+  last_ = now;
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  const std::string of = total > 0 ? "/" + std::to_string(total) : "";
+  char line[256];
+  std::snprintf(line, sizeof line, "frame %zu%s  %.1f fps  tracked %lld  keyframes %lld  resets %d", done, of.c_str(),
+                elapsed > 0 ? done / elapsed : 0.0, session.stats().count("tracked_frames"),
+                session.stats().count("keyframes"), session.odometry().resets());
+  callback_(line);
 }
 
 }  // namespace pllvo::vo

@@ -142,4 +142,18 @@ class OdometrySession {
   std::thread live_thread_;
 };
 
+/// A progress line for a long run, every `interval_s` of wall time (0: never):
+/// "frame 120/500  9.8 fps  tracked 118  keyframes 14  resets 0" (no "/500" when the total is unknown).
+class ProgressReport {
+ public:
+  ProgressReport(double interval_s, std::function<void(const std::string&)> callback);
+  /// After each frame given to `session`: `done` frames so far, of `total` (0: unknown).
+  void after_frame(const OdometrySession& session, size_t done, size_t total);
+
+ private:
+  double interval_s_;
+  std::function<void(const std::string&)> callback_;
+  std::chrono::steady_clock::time_point start_, last_;
+};
+
 }  // namespace pllvo::vo

@@ -1,6 +1,5 @@
 #include "pllvo/vo/run_sequence.h"
 
-#include <chrono>
 #include <cstdio>
 
 #include <spdlog/spdlog.h>
@@ -34,24 +33,11 @@ RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, co
   if (options.on_frame)
     session.set_on_frame([&](const FrameRecord&, const TrackingView& view) { options.on_frame(view); });
 
-  using clock = std::chrono::steady_clock;
-  const auto start = clock::now();
-  auto last_progress = start;
+  ProgressReport progress(config.run.progress_interval_s, options.progress);
   size_t done = 0;
   const auto track = [&](io::Frame& frame) {
     session.process(std::move(frame));
-    ++done;
-    const auto now = clock::now();
-    if (options.progress && config.run.progress_interval_s > 0 &&
-        std::chrono::duration<double>(now - last_progress).count() >= config.run.progress_interval_s) {
-      last_progress = now;
-      const double elapsed = std::chrono::duration<double>(now - start).count();
-      char line[256];
-      std::snprintf(line, sizeof line, "frame %zu/%zu  %.1f fps  tracked %lld  keyframes %lld  resets %d",
-                    done, end - options.first_frame, done / elapsed, session.stats().count("tracked_frames"),
-                    session.stats().count("keyframes"), session.odometry().resets());
-      options.progress(line);
-    }
+    progress.after_frame(session, ++done, end - options.first_frame);
   };
   const auto load = [&](size_t i) {
     io::Frame frame = sequence.frame(i);

@@ -22,7 +22,7 @@ void feed(io::VideoSource& source, OdometrySession& session, double stall_timeou
           const VoConfig& config, SourceRunResult& result) {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
-  auto last_progress = start;
+  ProgressReport progress(config.run.progress_interval_s, options.progress);
   size_t given = 0;
   std::optional<double> first_timestamp;
   // A recorded file replayed at live rate: each frame is handed over at its time, as a camera would.
@@ -74,17 +74,7 @@ void feed(io::VideoSource& source, OdometrySession& session, double stall_timeou
       result.message = e.what();
       return;
     }
-    ++given;
-    const auto now = clock::now();
-    if (options.progress && config.run.progress_interval_s > 0 &&
-        std::chrono::duration<double>(now - last_progress).count() >= config.run.progress_interval_s) {
-      last_progress = now;
-      char line[200];
-      std::snprintf(line, sizeof line, "frame %zu  %.1f fps  tracked %lld  keyframes %lld", given,
-                    given / std::chrono::duration<double>(now - start).count(), session.stats().count("tracked_frames"),
-                    session.stats().count("keyframes"));
-      options.progress(line);
-    }
+    progress.after_frame(session, ++given, 0);
   }
 }
 
