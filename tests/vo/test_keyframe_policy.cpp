@@ -49,36 +49,6 @@ TEST(KeyframePolicy, PointTriggerFiresWhenTrackingQualityDrops) {
   EXPECT_EQ(policy.decide(frame(10.1, 300)), KeyframeReason::kNone);
 }
 
-TEST(KeyframePolicy, MonoPointTriggerWaitsForCandidateParallax) {
-  KeyframePolicyConfig c = defaults();
-  c.mono_min_candidate_parallax_deg = 1.0;
-  c.mono_min_tracked_points = 30;
-  KeyframePolicy policy(c);
-  policy.start_keyframe(10.0, 100);
-  auto mono = [](int points, std::optional<double> parallax) {
-    FrameTrackingState s = frame(10.1, points);
-    s.candidate_parallax_deg = parallax;
-    return s;
-  };
-  // Few points, but the candidates are too close to their first view to be triangulated: wait.
-  EXPECT_EQ(policy.decide(mono(40, 0.4)), KeyframeReason::kNone);
-  // Once they have the parallax, the point rule fires as usual.
-  EXPECT_EQ(policy.decide(mono(40, 1.0)), KeyframeReason::kFewPoints);
-  // Map points running out override the wait.
-  EXPECT_EQ(policy.decide(mono(29, 0.4)), KeyframeReason::kFewPoints);
-  // Stereo (no candidate parallax) and the switch off: the plain rule.
-  EXPECT_EQ(policy.decide(mono(40, std::nullopt)), KeyframeReason::kFewPoints);
-  c.mono_min_candidate_parallax_deg = 0;
-  EXPECT_EQ(KeyframePolicy(c).decide(mono(40, 0.4)), KeyframeReason::kInitialization);
-  KeyframePolicy off(c);
-  off.start_keyframe(10.0, 100);
-  EXPECT_EQ(off.decide(mono(40, 0.4)), KeyframeReason::kFewPoints);
-  // The time rule is not held back.
-  FrameTrackingState late = mono(40, 0.4);
-  late.timestamp = 11.0;
-  EXPECT_EQ(policy.decide(late), KeyframeReason::kMaxInterval);
-}
-
 TEST(KeyframePolicy, TimeTriggerHasAMaximumAndAnIdleMinimum) {
   KeyframePolicy policy(defaults());
   policy.start_keyframe(10.0, 300);

@@ -4,21 +4,21 @@
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
-#include <ceres/autodiff_cost_function.h>
-#include <ceres/loss_function.h>
-#include <ceres/manifold.h>
-#include <ceres/problem.h>
-#include <ceres/solver.h>
-#include <ceres/sphere_manifold.h>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
 #include "pllvo/geometry/pose.h"
 #include "pllvo/geometry/triangulation.h"
+#include "pllvo/geometry/two_view_refine.h"
 
 namespace pllvo::geometry {
 
 namespace {
+using two_view_detail::DirectionPairError;
+using two_view_detail::DirectionPrior;
+using two_view_detail::refine_motion;
+using two_view_detail::sampson_px;
+
 constexpr double kChi2OneDof = 3.841;  // 95% bound of a 1-D squared error in sigma^2
 constexpr double kChi2TwoDof = 5.991;  // 95% bound of a 2-D squared error in sigma^2
 constexpr double kRadToDeg = 180.0 / M_PI;
@@ -87,108 +87,6 @@ void evaluate(Candidate& c, std::span<const Eigen::Vector2d> xy0, std::span<cons
     std::nth_element(parallaxes.begin(), mid, parallaxes.end());
     c.median_parallax_deg = *mid;
   }
-}
-
-/// Sampson distance (pixels) of a match to the epipolar geometry E = [t]x R.
-struct SampsonError {
-  Eigen::Vector2d x0, x1;
-  double focal;
-
-  template <typename T>
-  bool operator()(const T* q_xyzw, const T* t, T* residual) const {
-    const Eigen::Quaternion<T> q(q_xyzw[3], q_xyzw[0], q_xyzw[1], q_xyzw[2]);
-    Eigen::Matrix<T, 3, 3> tx;
-    tx << T(0), -t[2], t[1], t[2], T(0), -t[0], -t[1], t[0], T(0);
-    const Eigen::Matrix<T, 3, 3> E = tx * q.toRotationMatrix();
-    const Eigen::Matrix<T, 3, 1> h0(T(x0.x()), T(x0.y()), T(1)), h1(T(x1.x()), T(x1.y()), T(1));
-    const Eigen::Matrix<T, 3, 1> l1 = E * h0, l0 = E.transpose() * h1;
-    const T denom = l1.x() * l1.x() + l1.y() * l1.y() + l0.x() * l0.x() + l0.y() * l0.y();
-    if (!(denom > T(1e-30))) return false;
-    residual[0] = T(focal) * h1.dot(l1) / sqrt(denom);
-    return true;
-  }
-};
-
-/// Pulls a unit translation towards an expected direction: (t - t_expected) / sigma, in the
-/// Sampson residuals' units (sigma_px per standard deviation).
-struct DirectionPrior {
-  Eigen::Vector3d expected;
-  double scale;  ///< sigma_px / sigma (radians)
-
-  template <typename T>
-  bool operator()(const T* t, T* residual) const {
-    for (int k = 0; k < 3; ++k) residual[k] = T(scale) * (t[k] - T(expected[k]));
-    return true;
-  }
-};
-
-/// A direction seen in both views: b (view 1) = R a (view 0); the residual is b x (R a), the
-/// sine of their angle, scaled like DirectionPrior.
-struct DirectionPairError {
-  Eigen::Vector3d a, b;  ///< unit, signs aligned
-  double scale;
-
-  template <typename T>
-  bool operator()(const T* q_xyzw, T* residual) const {
-    const Eigen::Quaternion<T> q(q_xyzw[3], q_xyzw[0], q_xyzw[1], q_xyzw[2]);
-    const Eigen::Matrix<T, 3, 1> Ra = q * a.cast<T>();
-    const Eigen::Matrix<T, 3, 1> c = b.cast<T>().cross(Ra);
-    for (int k = 0; k < 3; ++k) residual[k] = T(scale) * c[k];
-    return true;
-  }
-};
-
-/// Refines (R, unit t) on the inliers' Sampson errors: the RANSAC models come from minimal
-/// samples and are noticeably off; this is a two-view bundle adjustment with the points
-/// eliminated to first order. With `prior`, t is also pulled towards prior->expected; with
-/// `pairs`, R is held by the directions seen in both views.
-void refine_motion(Eigen::Matrix3d& R, Eigen::Vector3d& t, std::span<const Eigen::Vector2d> xy0,
-                   std::span<const Eigen::Vector2d> xy1, const std::vector<uint8_t>& inliers, double focal_px,
-                   double sigma_px, const DirectionPrior* prior = nullptr,
-                   const std::vector<DirectionPairError>* pairs = nullptr) {
-  Eigen::Quaterniond q(R);
-  double q_xyzw[4] = {q.x(), q.y(), q.z(), q.w()};
-  double tt[3] = {t.x(), t.y(), t.z()};
-  ceres::Problem problem;
-  ceres::LossFunction* loss = new ceres::HuberLoss(2.0 * sigma_px);
-  for (size_t i = 0; i < xy0.size(); ++i) {
-    if (!inliers[i]) continue;
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<SampsonError, 1, 4, 3>(
-                                 new SampsonError{xy0[i], xy1[i], focal_px}),
-                             loss, q_xyzw, tt);
-  }
-  if (problem.NumResidualBlocks() < 6) {
-    delete loss;
-    return;
-  }
-  if (prior)
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<DirectionPrior, 3, 3>(new DirectionPrior(*prior)),
-                             nullptr, tt);
-  if (pairs)
-    for (const auto& p : *pairs)
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<DirectionPairError, 3, 4>(new DirectionPairError(p)),
-                               nullptr, q_xyzw);
-  problem.SetManifold(q_xyzw, new ceres::EigenQuaternionManifold);
-  problem.SetManifold(tt, new ceres::SphereManifold<3>);
-  ceres::Solver::Options options;
-  options.linear_solver_type = ceres::DENSE_QR;
-  options.max_num_iterations = 20;
-  options.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
-  if (!summary.IsSolutionUsable()) return;
-  R = Eigen::Quaterniond(q_xyzw[3], q_xyzw[0], q_xyzw[1], q_xyzw[2]).normalized().toRotationMatrix();
-  t = Eigen::Vector3d(tt[0], tt[1], tt[2]).normalized();
-}
-
-/// Sampson distance (pixels) of one match under (R, t), outside Ceres.
-double sampson_px(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const Eigen::Vector2d& x0,
-                  const Eigen::Vector2d& x1, double focal_px) {
-  const Eigen::Quaterniond q(R);
-  const double q_xyzw[4] = {q.x(), q.y(), q.z(), q.w()};
-  double r = 0;
-  if (!SampsonError{x0, x1, focal_px}(q_xyzw, t.data(), &r)) return 0.0;
-  return r;
 }
 
 /// Two unit vectors orthogonal to t and to each other: the tangent plane of the sphere at t.

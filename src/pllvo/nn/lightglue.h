@@ -99,6 +99,10 @@ class LightGlue {
 /// and `prune0/1` with the names and dtypes of the official outputs (testvectors/lightglue).
 void save_lightglue_result(const LightGlueResult& result, const std::filesystem::path& file);
 
+/// The tensors of `weights` under the official code's names: released checkpoints name layers
+/// self_attn.{i}. / cross_attn.{i}., the official loader renames them transformers.{i}.self_attn. / .cross_attn.
+SafeTensors with_official_names(const SafeTensors& weights);
+
 /// The architecture a weight file holds, from its tensor shapes (InputError when it is not a
 /// LightGlue file or disagrees with its metadata `config`).
 LightGlueArchitecture lightglue_architecture(const SafeTensors& weights);

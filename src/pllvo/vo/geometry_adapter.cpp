@@ -77,7 +77,7 @@ PoseEstimate estimate_pose(const Pinhole& cam, const std::vector<Eigen::Vector3d
   std::vector<int> used;
   for (size_t i = 0; i < points_world.size(); ++i) {
     if (pnp.ok && !pnp.inliers[i]) continue;
-    problem.points.push_back({points_world[i], xy[i], 0, extras.point_weights.empty() ? 1.0 : extras.point_weights[i]});
+    problem.points.push_back({points_world[i], xy[i], 0, 1.0});
     used.push_back(static_cast<int>(i));
   }
   for (const auto& l : lines) problem.lines.push_back({l.start_world, l.end_world, observed_line(cam, l.observed), 0});
@@ -127,19 +127,6 @@ std::optional<Eigen::Vector3d> triangulate_point(const Pinhole& cam, const std::
   return t.p_world;
 }
 
-double baseline_angle_deg(const Eigen::Vector3d& centre_a, const Eigen::Vector3d& centre_b, double depth) {
-  if (depth <= 0) return 0.0;
-  return 2.0 * std::atan2(0.5 * (centre_a - centre_b).norm(), depth) * 180.0 / M_PI;
-}
-
-bool baseline_subtends(const std::vector<geometry::Pose>& T_world_views, const geometry::Pose& T_world_cam,
-                       double depth, double min_parallax_deg) {
-  double widest = 0;
-  for (const auto& T : T_world_views)
-    widest = std::max(widest, baseline_angle_deg(T.translation(), T_world_cam.translation(), depth));
-  return depth > 0 && widest >= min_parallax_deg;
-}
-
 std::vector<double> reprojection_errors_px(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
                                            const std::vector<Eigen::Vector2d>& pixels,
                                            const geometry::Pose& T_world_cam) {
@@ -168,37 +155,6 @@ std::optional<geometry::Pose> follow_keyframe_adjustment(const Pinhole& cam,
   const geometry::Pose moved = T_world_adjusted * T_world_added.inverse() * T_world_current;
   if (median_reprojection_px(cam, points_world, pixels, moved) >= now) return std::nullopt;
   return moved;
-}
-
-double depth_uncertainty_px(const Pinhole& cam, const Eigen::Vector3d& p_world,
-                            const std::vector<Eigen::Vector3d>& keyframe_centres, const geometry::Pose& T_world_cam) {
-  constexpr double kUnknown = 1e9;
-  if (keyframe_centres.size() < 2) return kUnknown;
-  const Eigen::Vector3d ray = p_world - keyframe_centres.front();
-  const double distance = ray.norm();
-  double widest = 0;  // sine of the widest angle between the first ray and another
-  for (size_t k = 1; k < keyframe_centres.size(); ++k) {
-    const Eigen::Vector3d other = p_world - keyframe_centres[k];
-    const double n = distance * other.norm();
-    if (n > 0) widest = std::max(widest, ray.cross(other).norm() / n);
-  }
-  if (widest <= 0 || distance <= 0) return kUnknown;
-  const double along = distance / (cam.focal() * widest);  // map units along the first ray
-  const geometry::Pose T_cam_world = T_world_cam.inverse();
-  const Eigen::Vector3d p = T_cam_world * p_world;
-  if (p.z() <= 0) return kUnknown;
-  const Eigen::Vector3d d = T_cam_world.linear() * (ray / distance);
-  // Image motion of a point moving along d: focal / z * (d_xy - (p_xy / z) d_z).
-  const Eigen::Vector2d motion = (d.head<2>() - p.head<2>() / p.z() * d.z()) * (cam.focal() / p.z());
-  return motion.norm() * along;
-}
-
-double median_depth(const std::vector<Eigen::Vector3d>& points_world, const geometry::Pose& T_world_cam) {
-  const geometry::Pose T_cam_world = T_world_cam.inverse();
-  std::vector<double> z;
-  for (const auto& p : points_world)
-    if (const double d = (T_cam_world * p).z(); d > 0) z.push_back(d);
-  return median(std::move(z));
 }
 
 geometry::Pose T_left_right(double baseline) {

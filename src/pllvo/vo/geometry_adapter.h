@@ -43,10 +43,8 @@ struct PoseEstimate {
   bool from_pnp = false;  ///< false: refined from the prediction alone (PnP failed)
 };
 
-/// Terms of a frame's pose refinement beside the points and lines (pose.mono_point_uncertainty_px,
-/// directions).
+/// Terms of a frame's pose refinement beside the points and lines: directions.
 struct PoseExtras {
-  std::vector<double> point_weights;  ///< empty, or one per point: scale its residual
   std::vector<backend::PoseDirectionObservation> directions;  ///< segments parallel to known directions
   double direction_weight = 0;                               ///< 0: the directions are not used
 };
@@ -90,16 +88,6 @@ std::optional<Eigen::Vector3d> triangulate_point(const Pinhole& cam, const std::
                                                  const std::vector<Eigen::Vector2d>& pixels,
                                                  const geometry::PointTriangulationConfig& config);
 
-/// Angle (degrees) the baseline between two camera centres subtends at `depth`; 0 without a depth.
-double baseline_angle_deg(const Eigen::Vector3d& centre_a, const Eigen::Vector3d& centre_b, double depth);
-
-/// Whether views at `T_world_views` and a camera at `T_world_cam` are far enough apart to
-/// triangulate at `depth` (the scene's median depth): the widest baseline subtends at least
-/// `min_parallax_deg` there. Unlike a point's own parallax it does not depend on the point's
-/// noisy rays, so it selects no depth error.
-bool baseline_subtends(const std::vector<geometry::Pose>& T_world_views, const geometry::Pose& T_world_cam,
-                       double depth, double min_parallax_deg);
-
 /// Distances (px) between the projections of `points_world` at `T_world_cam` and `pixels`; a
 /// point behind the camera counts as 1e9.
 std::vector<double> reprojection_errors_px(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
@@ -121,16 +109,6 @@ std::optional<geometry::Pose> follow_keyframe_adjustment(const Pinhole& cam,
                                                          const geometry::Pose& T_world_current,
                                                          const geometry::Pose& T_world_added,
                                                          const geometry::Pose& T_world_adjusted, double gate_px);
-
-/// How far (pixels) a map point's depth uncertainty moves its projection in the camera at
-/// `T_world_cam`. Its depth along the ray from the first of `keyframe_centres` is uncertain by
-/// (one pixel of ray noise) / sin(widest angle between that ray and the others' rays), to first
-/// order; that displacement is projected into the camera. Without a second view: 1e9.
-double depth_uncertainty_px(const Pinhole& cam, const Eigen::Vector3d& p_world,
-                            const std::vector<Eigen::Vector3d>& keyframe_centres, const geometry::Pose& T_world_cam);
-
-/// Median of the depths of `points_world` in the camera at `T_world_cam`; 0 when there are none.
-double median_depth(const std::vector<Eigen::Vector3d>& points_world, const geometry::Pose& T_world_cam);
 
 /// Pose of the right rectified camera in the left one: +baseline along the left camera's x axis.
 geometry::Pose T_left_right(double baseline);

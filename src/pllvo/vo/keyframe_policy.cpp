@@ -35,16 +35,6 @@ void KeyframePolicy::start_keyframe(double timestamp, int tracked_points) {
 
 void KeyframePolicy::set_reference_points(int tracked_points) { reference_points_ = tracked_points; }
 
-bool KeyframePolicy::waiting_for_parallax(const FrameTrackingState& frame) const {
-  // A monocular keyframe makes map points only from candidates with parallax; made earlier,
-  // it adds a view a few centimetres from the last, the window's triangulations get
-  // short-baseline and the scale drifts (docs/vo.md).
-  const auto& c = config_;
-  return c.mono_min_candidate_parallax_deg > 0 && frame.candidate_parallax_deg &&
-         *frame.candidate_parallax_deg < c.mono_min_candidate_parallax_deg &&
-         frame.tracked_points >= c.mono_min_tracked_points;
-}
-
 KeyframeReason KeyframePolicy::decide(const FrameTrackingState& frame) const {
   if (!has_reference_) return KeyframeReason::kInitialization;
   const auto& c = config_;
@@ -52,7 +42,7 @@ KeyframeReason KeyframePolicy::decide(const FrameTrackingState& frame) const {
   // A keyframe in flight brings new points when its result arrives; another one now would see
   // the same points a frame or two later and only lengthen the queue.
   const bool point_rule_may_fire = !frame.keyframe_in_flight || c.point_trigger_while_in_flight;
-  if (c.use_point_trigger && point_rule_may_fire && !waiting_for_parallax(frame)) {
+  if (c.use_point_trigger && point_rule_may_fire) {
     if (frame.tracked_points < c.min_tracked_points) return KeyframeReason::kFewPoints;
     if (reference_points_ > 0 &&
         frame.tracked_points < c.min_tracked_ratio * static_cast<double>(reference_points_))

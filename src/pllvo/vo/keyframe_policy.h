@@ -37,9 +37,6 @@ struct FrameTrackingState {
   /// (lines::overlap_angle_distance, paper eq. 9); nullopt when lines are not used or the
   /// sets hold too few angles to describe the view.
   std::optional<double> line_angle_distance_deg;
-  /// Monocular: median parallax (degrees, rotation removed) of the candidate points since
-  /// their first keyframe; nullopt in stereo or with too few candidates.
-  std::optional<double> candidate_parallax_deg;
 };
 
 class KeyframePolicy {
@@ -60,8 +57,6 @@ class KeyframePolicy {
   int reference_points() const { return reference_points_; }
 
  private:
-  bool waiting_for_parallax(const FrameTrackingState& frame) const;
-
   KeyframePolicyConfig config_;
   bool has_reference_ = false;
   double reference_time_ = 0;

@@ -67,16 +67,11 @@ std::optional<double> KeyframeProcessor::line_plane_angle(const KeyframeJob& job
   return plain.mono_line_min_plane_angle_deg;
 }
 
-backend::BundleAdjustmentConfig KeyframeProcessor::window_ba_config(double image_noise) const {
+backend::BundleAdjustmentConfig KeyframeProcessor::window_ba_config() const {
   backend::BundleAdjustmentConfig ba = config_.backend.bundle_adjustment;
   if (baseline_ > 0) return ba;
-  // A monocular map has a free scale as well: a second fixed keyframe pins it, or, on frames
-  // less noisy than mapping.mono_distance_gauge_max_noise (default: none), its distance to the
-  // first.
-  if (image_noise < config_.mapping.mono_distance_gauge_max_noise)
-    ba.distance_gauge = true;
-  else
-    ba.num_fixed_oldest = std::max(2, ba.num_fixed_oldest);
+  // A monocular map has a free scale as well: a second fixed keyframe pins it.
+  ba.num_fixed_oldest = std::max(2, ba.num_fixed_oldest);
   return ba;
 }
 
@@ -115,7 +110,6 @@ std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::stereo_points(con
   StereoRowMatchConfig row;
   row.window_px = config_.klt.window_px;
   row.min_horizontal_share = config_.klt.stereo_min_horizontal_share;
-  row.min_signal_to_noise = config_.klt.stereo_min_signal_to_noise;
   int row_rejects = 0, depth_rejects = 0, matched = 0;
   for (size_t k = 0; k < which.size(); ++k) {
     if (!tr.ok[k]) continue;
@@ -370,27 +364,12 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
   std::vector<std::optional<Eigen::Vector3d>> triangulated(n);
   {
     ScopedTimer t(stats_, "kf_triangulate");
-    // Monocular baseline gate (mapping.mono_baseline_parallax_gate): the keyframes' baseline at
-    // the scene's depth decides, and each point then needs only mono_point_min_parallax_deg.
-    double scene_depth = 0;
-    if (job.right.empty() && config_.mapping.mono_baseline_parallax_gate) {
-      std::vector<Eigen::Vector3d> seen;
-      for (size_t i = 0; i < n; ++i)
-        if (ids[i] != kNoId) seen.push_back(positions[i]);
-      scene_depth = median_depth(seen, job.T_world_cam);
-    }
-    const bool gated = scene_depth > 0;
-    geometry::PointTriangulationConfig triangulation = config_.geometry.point_triangulation;
-    if (gated) triangulation.min_parallax_deg = config_.mapping.mono_point_min_parallax_deg;
     for (size_t i = 0; i < n; ++i) {
       if (ids[i] != kNoId || stereo[i] || views[i].px.empty()) continue;
       Views v = views[i];
-      if (gated && !baseline_subtends(v.T_world_cam, job.T_world_cam, scene_depth,
-                                      config_.geometry.point_triangulation.min_parallax_deg))
-        continue;
       v.T_world_cam.push_back(job.T_world_cam);
       v.px.push_back(to_eigen(features.points[i]));
-      triangulated[i] = triangulate_point(camera_, v.T_world_cam, v.px, triangulation);
+      triangulated[i] = triangulate_point(camera_, v.T_world_cam, v.px, config_.geometry.point_triangulation);
     }
   }
   // Stereo lines: on every keyframe with lines.stereo, else on plain ones (plain_scene), which
@@ -483,7 +462,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
     const std::vector<Id> ids_window(segment_keyframes_.end() - std::min(window, segment_keyframes_.size()),
                                      segment_keyframes_.end());
     const auto ba = bundle_adjust_window(map_, camera_, baseline_, ids_window, config_.mapping.max_anchor_keyframes,
-                                         window_ba_config(job.image_noise), config_.directions.ba_weight,
+                                         window_ba_config(), config_.directions.ba_weight,
                                          stereo_offset_px_);
     if (ba.ran) {
       if (baseline_ > 0) {

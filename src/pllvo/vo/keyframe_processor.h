@@ -159,7 +159,7 @@ class KeyframeProcessor {
   /// (the triangulation config's).
   std::optional<double> line_plane_angle(const KeyframeJob& job, size_t features) const;
   /// The window BA's settings for a keyframe with this image noise (the monocular gauge).
-  backend::BundleAdjustmentConfig window_ba_config(double image_noise) const;
+  backend::BundleAdjustmentConfig window_ba_config() const;
 
   VoConfig config_;
   Pinhole camera_;

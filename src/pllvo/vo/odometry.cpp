@@ -195,7 +195,6 @@ void Odometry::maybe_make_keyframe(const io::Frame& frame, const cv::Mat& left, 
   state.backend_idle = worker_.idle();
   state.keyframe_in_flight = !pending_keyframe_frames_.empty();
   state.line_angle_distance_deg = line_angle_distance();
-  state.candidate_parallax_deg = candidate_parallax_deg();
   const KeyframeReason reason = policy_.decide(state);
   if (reason == KeyframeReason::kNone) return;
   if (!worker_.idle()) stats_.add_count("keyframes_requested_while_busy");

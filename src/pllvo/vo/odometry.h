@@ -145,9 +145,6 @@ class Odometry {
   bool plain_frame() const;
   void set_reference_lines(const std::vector<TrackedLine>& lines);
   std::optional<double> line_angle_distance() const;
-  /// Monocular: median parallax of the candidate tracks since their first keyframe (degrees,
-  /// rotation removed); nullopt in stereo or with fewer than kMinCandidates of them.
-  std::optional<double> candidate_parallax_deg() const;
   void handle_lost();
   void reset();
   /// Where a map started at `frame_index` (time `timestamp`) after a reset begins, unless it

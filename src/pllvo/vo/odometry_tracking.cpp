@@ -56,18 +56,6 @@ std::vector<int> associate_by_position(const std::vector<lines::LineSegment>& ex
   return out;
 }
 
-/// Weight of a map point's residual in a monocular pose (pose.mono_point_uncertainty_px):
-/// 1 / sqrt(1 + (s / scale_px)^2), s the pixels its depth uncertainty moves it in the camera.
-double uncertainty_weight(const MapData& m, const MapPoint& point, const Pinhole& camera,
-                          const geometry::Pose& T_world_cam, double scale_px) {
-  std::vector<Eigen::Vector3d> centres;
-  for (const auto& o : point.observations)
-    if (auto kf = m.keyframes.find(o.keyframe); kf != m.keyframes.end())
-      centres.push_back(kf->second.T_world_cam.translation());
-  const double s = depth_uncertainty_px(camera, point.position, centres, T_world_cam) / scale_px;
-  return 1.0 / std::sqrt(1.0 + s * s);
-}
-
 }  // namespace
 
 using namespace odometry_detail;
@@ -126,16 +114,12 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
 
   std::vector<Eigen::Vector3d> positions(tracks_.size());
   std::vector<unsigned char> known(tracks_.size(), 0);
-  // Monocular: a map point's depth uncertainty in this image, from its keyframes' rays.
-  const double uncertainty_px = rectifier_.stereo() ? 0.0 : config_.pose.mono_point_uncertainty_px;
-  std::vector<double> weights(uncertainty_px > 0 ? tracks_.size() : 0, 1.0);
   PoseExtras extras;
   map_.read([&](const MapData& m) {
     for (size_t i = 0; i < tracks_.size(); ++i) {
       auto it = m.points.find(tracks_[i].point);
       if (it == m.points.end()) continue;
       positions[i] = it->second.position, known[i] = 1;
-      if (!weights.empty()) weights[i] = uncertainty_weight(m, it->second, camera_, T_world_pred, uncertainty_px);
     }
   });
   std::vector<cv::Point2f> from, predicted;
@@ -211,7 +195,6 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     which.push_back(i);
     pts.push_back(positions[i]);
     px.push_back(to_eigen(tr.points[i]));
-    if (!weights.empty()) extras.point_weights.push_back(weights[i]);
   }
 
   std::vector<DirectionSegment> dir_segments;
@@ -440,28 +423,6 @@ std::optional<double> Odometry::line_angle_distance() const {
   const size_t min_angles = static_cast<size_t>(config_.keyframes.line_min_angles);
   if (current.size() < min_angles || reference_angles_.size() < min_angles) return std::nullopt;
   return lines::overlap_angle_distance(reference_angles_, current);
-}
-
-std::optional<double> Odometry::candidate_parallax_deg() const {
-  constexpr size_t kMinCandidates = 10;
-  if (rectifier_.stereo() || config_.keyframes.mono_min_candidate_parallax_deg <= 0) return std::nullopt;
-  auto bearing = [&](const Eigen::Matrix3d& R_world_cam, const Eigen::Vector2d& px) {
-    return (R_world_cam * camera_.normalised(px).homogeneous()).normalized().eval();
-  };
-  const Eigen::Matrix3d R_world_now = T_world_work_.linear();
-  std::vector<double> angles;
-  map_.read([&](const MapData& m) {
-    for (const auto& t : tracks_) {
-      if (t.point != kNoId || t.origin.keyframe == kNoId) continue;
-      const auto view = m.feature_view(t.origin);
-      if (!view) continue;
-      const Eigen::Vector3d a = bearing(view->T_world_cam.linear(), view->px);
-      const Eigen::Vector3d b = bearing(R_world_now, to_eigen(t.px));
-      angles.push_back(std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI);
-    }
-  });
-  if (angles.size() < kMinCandidates) return std::nullopt;
-  return median(angles);
 }
 
 // ---------------------------------------------------------------- failure

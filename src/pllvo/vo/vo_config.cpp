@@ -51,7 +51,6 @@ void read_klt(const ConfigNode& n, KltConfig& c) {
   n.get("denoise_sigma_px", c.denoise_sigma_px);
   n.get("border_px", c.border_px);
   n.get("stereo_min_horizontal_share", c.stereo_min_horizontal_share);
-  n.get("stereo_min_signal_to_noise", c.stereo_min_signal_to_noise);
   n.reject_unknown_keys();
 }
 
@@ -59,8 +58,6 @@ void read_keyframes(const ConfigNode& n, KeyframePolicyConfig& c) {
   n.get("use_point_trigger", c.use_point_trigger);
   n.get("min_tracked_points", c.min_tracked_points);
   n.get("min_tracked_ratio", c.min_tracked_ratio);
-  n.get("mono_min_candidate_parallax_deg", c.mono_min_candidate_parallax_deg);
-  n.get("mono_min_tracked_points", c.mono_min_tracked_points);
   n.get("use_time_trigger", c.use_time_trigger);
   n.get("max_interval_s", c.max_interval_s);
   n.get("min_interval_s", c.min_interval_s);
@@ -101,7 +98,6 @@ void read_pose(const ConfigNode& n, PoseConfig& c) {
   n.get("mono_frame_motion_max_rotation_change_deg", c.mono_frame_motion_max_rotation_change_deg);
   n.get("mono_frame_motion_max_translation_change_deg", c.mono_frame_motion_max_translation_change_deg);
   n.get("mono_frame_motion_translation_sigma_deg", c.mono_frame_motion_translation_sigma_deg);
-  n.get("mono_point_uncertainty_px", c.mono_point_uncertainty_px);
   n.reject_unknown_keys();
 }
 
@@ -115,11 +111,8 @@ void read_mapping(const ConfigNode& n, MappingConfig& c) {
   n.get("orb_ratio", c.orb_ratio);
   n.get("orb_max_hamming", c.orb_max_hamming);
   n.get("max_anchor_keyframes", c.max_anchor_keyframes);
-  n.get("mono_distance_gauge_max_noise", c.mono_distance_gauge_max_noise);
   n.get("mono_line_min_plane_angle_deg", c.mono_line_min_plane_angle_deg);
   n.get("mono_ba_line_weight", c.mono_ba_line_weight);
-  n.get("mono_baseline_parallax_gate", c.mono_baseline_parallax_gate);
-  n.get("mono_point_min_parallax_deg", c.mono_point_min_parallax_deg);
   n.get("mono_align_to_origin", c.mono_align_to_origin);
   n.get("mono_align_min_noise", c.mono_align_min_noise);
   n.get("mono_align_max_shift_px", c.mono_align_max_shift_px);
@@ -268,9 +261,6 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(klt.denoise_sigma_px >= 0 && klt.denoise_sigma_px <= 5, file, "klt.denoise_sigma_px", "must be in [0, 5]");
   require(keyframes.min_tracked_ratio >= 0 && keyframes.min_tracked_ratio <= 1, file,
           "keyframes.min_tracked_ratio", "must be in [0, 1]");
-  require(keyframes.mono_min_candidate_parallax_deg >= 0, file, "keyframes.mono_min_candidate_parallax_deg",
-          "must be >= 0 (0: off)");
-  require(keyframes.mono_min_tracked_points >= 0, file, "keyframes.mono_min_tracked_points", "must be >= 0");
   require(keyframes.max_interval_s > 0, file, "keyframes.max_interval_s", "must be positive");
   require(keyframes.min_interval_s >= 0 && keyframes.min_interval_s <= keyframes.max_interval_s, file,
           "keyframes.min_interval_s", "must be in [0, max_interval_s]");
@@ -289,8 +279,6 @@ void VoConfig::validate(const std::filesystem::path& file) const {
           "must be >= 0 (0: off)");
   require(pose.mono_frame_motion_min_inliers == 0 || pose.mono_frame_motion_min_inliers >= 8, file,
           "pose.mono_frame_motion_min_inliers", "must be 0 (off) or at least 8 (the essential matrix's sample)");
-  require(pose.mono_point_uncertainty_px >= 0 && std::isfinite(pose.mono_point_uncertainty_px), file,
-          "pose.mono_point_uncertainty_px", "must be >= 0 (0: off)");
   require(pose.mono_frame_motion_max_frames >= 1, file, "pose.mono_frame_motion_max_frames", "must be at least 1");
   require(pose.mono_frame_motion_max_rotation_change_deg > 0 && pose.mono_frame_motion_max_rotation_change_deg <= 180,
           file, "pose.mono_frame_motion_max_rotation_change_deg", "must be in (0, 180]");
@@ -334,10 +322,7 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(ps.max_float_distance > 0, file, "mapping.projection_search.max_float_distance", "must be > 0");
   require(ps.max_hamming > 0, file, "mapping.projection_search.max_hamming", "must be > 0");
   require(ps.ratio > 0 && ps.ratio <= 1, file, "mapping.projection_search.ratio", "must be in (0, 1]");
-  require(mapping.mono_point_min_parallax_deg >= 0, file, "mapping.mono_point_min_parallax_deg", "must not be negative");
   require(mapping.mono_align_min_noise >= 0, file, "mapping.mono_align_min_noise", "must not be negative");
-  require(mapping.mono_distance_gauge_max_noise >= 0, file, "mapping.mono_distance_gauge_max_noise",
-          "must not be negative");
   require(mapping.mono_align_max_shift_px > 0, file, "mapping.mono_align_max_shift_px", "must be positive");
   require(mapping.mono_align_levels >= 0, file, "mapping.mono_align_levels", "must not be negative");
   require(mapping.mono_align_cache_keyframes >= 1, file, "mapping.mono_align_cache_keyframes", "must be at least 1");
@@ -348,7 +333,6 @@ void VoConfig::validate(const std::filesystem::path& file) const {
           "frontend.mono_min_corner_ratio", "must be in [0, 1) (0: off)");
   require(klt.stereo_min_horizontal_share >= 0 && klt.stereo_min_horizontal_share < 1, file,
           "klt.stereo_min_horizontal_share", "must be in [0, 1) (0: off)");
-  require(klt.stereo_min_signal_to_noise >= 0, file, "klt.stereo_min_signal_to_noise", "must be >= 0 (0: off)");
 }
 
 }  // namespace pllvo::vo

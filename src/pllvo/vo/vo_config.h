@@ -106,11 +106,6 @@ struct KltConfig {
   /// horizontal gradient energy: points on near-horizontal edges, whose disparity 2-D LK gets
   /// wrong by pixels. 0: the 2-D match as it is.
   double stereo_min_horizontal_share = 0.03;
-  /// ... and those whose horizontal gradient energy is below this many times what the noise
-  /// left in the match would give alone (stereo_row_match.h): on a faint edge, noise picks the
-  /// disparity (20-38 % depth errors on a ceiling edge of medium_lowtexture). Off:
-  /// in the dark it also drops half of the usable matches, and the suite did not improve. 0: off.
-  double stereo_min_signal_to_noise = 0.0;
 };
 
 /// Keyframe decision (paper 3.3). Every strategy can be switched off for ablations.
@@ -123,13 +118,6 @@ struct KeyframePolicyConfig {
   bool point_trigger_while_in_flight = false;
   int min_tracked_points = 60;
   double min_tracked_ratio = 0.5;  ///< tracked now / tracked right after the keyframe
-  /// Monocular only: while the new candidate points (tracked since their first keyframe, not
-  /// yet triangulated) have a median parallax below this (degrees, rotation removed), a
-  /// keyframe would add no points, only another short-baseline view: the point rule waits,
-  /// unless fewer than mono_min_tracked_points map points remain. 0: off, the default:
-  /// measured mixed over 4 start frames (docs/vo.md; 1.0 is the value measured).
-  double mono_min_candidate_parallax_deg = 0.0;
-  int mono_min_tracked_points = 30;
   // (2) time: a keyframe at least every max_interval_s; when the back end is idle, already
   // after min_interval_s (it has time to spare, and fresh keyframes keep the map dense).
   bool use_time_trigger = true;
@@ -239,14 +227,6 @@ struct PoseConfig {
   double mono_frame_motion_max_rotation_change_deg = 5.0;
   double mono_frame_motion_max_translation_change_deg = 45.0;
   double mono_frame_motion_translation_sigma_deg = 15.0;  ///< prior on the direction (0: none)
-  /// Monocular pose: each map point's residual is divided by sqrt(1 + (s / this)^2), where s
-  /// (pixels) is how far its depth uncertainty moves it in the predicted image. The depth
-  /// uncertainty comes from the widest angle between its keyframes' rays (one pixel of ray
-  /// noise). A point triangulated from a short baseline then constrains the rotation but
-  /// hardly the translation, which would otherwise follow its depth error. Measured mixed:
-  /// medium_lowlight within its spread, difficult_lowlight worse (docs/vo.md).
-  /// Pixels; 0: off.
-  double mono_point_uncertainty_px = 0.0;
 };
 
 /// New keyframes: their features without a point matched with recent keyframes' points by
@@ -280,14 +260,6 @@ struct MappingConfig {
   /// Older keyframes (outside the window) that see the window's points join the BA, fixed,
   /// to anchor it; at most this many.
   int max_anchor_keyframes = 5;
-  /// Monocular BA on keyframes with less image noise than this (grey levels): the scale is held
-  /// by the distance between the first two keyframes of a start
-  /// (backend.bundle_adjustment.distance_gauge) instead of fixing the second one's pose, so the
-  /// BA may correct a two-view start's rotation and translation direction. 0 (default): never.
-  /// Measured mixed (docs/vo.md): it removes the ~7 % runs that follow 1-degree
-  /// homography starts in normal light, but worsens the low-light means, the start-direction
-  /// test and medium_lowtexture.
-  double mono_distance_gauge_max_noise = 0;
   /// Monocular runs with lines: smallest angle between the two back-projected planes of a new
   /// 3-D line (raises geometry.line_triangulation.min_plane_angle_deg in mono). Lines
   /// triangulated from monocular keyframes at the stereo default (2 deg) pull the scale harder:
@@ -297,17 +269,6 @@ struct MappingConfig {
   /// relative to points (a ceiling on backend.bundle_adjustment.line_weight in mono). Lines from
   /// short monocular baselines otherwise pull the scale in low light (docs/vo.md).
   double mono_ba_line_weight = 0.25;
-  /// Monocular runs: new points are triangulated once the keyframes' baseline subtends
-  /// geometry.point_triangulation.min_parallax_deg at the median depth of the keyframe's map
-  /// points, whatever the angle between the point's own rays. Gating each point on its measured
-  /// parallax keeps the points whose noise widened their rays, so their depths are too short and
-  /// the scale shrinks with every generation of points, faster in low light. Measured mixed over
-  /// 26 synthetic runs (better on medium_lowlight, medium_lightoff, medium_flicker, difficult_normal;
-  /// worse on difficult_lowlight, difficult_flicker, easy_lowlight: docs/vo.md): off.
-  bool mono_baseline_parallax_gate = false;
-  /// Under that gate, each point still needs this angle between its own rays (deg): far points
-  /// with almost parallel rays get depths of pure noise.
-  double mono_point_min_parallax_deg = 0.5;
   /// Monocular runs: a candidate's position in a new keyframe is aligned (LK) to its patch in
   /// the keyframe where its track began. Its observations then carry one alignment's error
   /// each, instead of the error that a frame-to-frame track adds up over its frames; a candidate
