@@ -77,7 +77,7 @@ PoseEstimate estimate_pose(const Pinhole& cam, const std::vector<Eigen::Vector3d
   std::vector<int> used;
   for (size_t i = 0; i < points_world.size(); ++i) {
     if (pnp.ok && !pnp.inliers[i]) continue;
-    problem.points.push_back({points_world[i], xy[i], 0, 1.0});
+    problem.points.push_back({points_world[i], xy[i]});
     used.push_back(static_cast<int>(i));
   }
   for (const auto& l : lines) problem.lines.push_back({l.start_world, l.end_world, observed_line(cam, l.observed), 0});

@@ -6,23 +6,6 @@
 
 namespace pllvo::vo {
 
-namespace {
-
-/// sum(Ix^2) of the template against what the noise left in the residual at the solution x
-/// would give alone: per pixel the residual holds the noise of both images (2 sigma^2) and a
-/// central difference of noise has variance sigma^2 / 2, so noise alone gives r / 4 in all.
-bool signal_above_noise(const cv::Mat& right, float x, float y, const cv::Mat& tmpl, double gxx,
-                        const StereoRowMatchConfig& config) {
-  if (config.min_signal_to_noise <= 0) return true;
-  cv::Mat patch;
-  cv::getRectSubPix(right, tmpl.size(), cv::Point2f(x, y), patch, CV_32F);
-  cv::Mat residual = patch - (cv::mean(patch)[0] - cv::mean(tmpl)[0]) - tmpl;
-  const double r = residual.dot(residual);
-  return 4.0 * gxx >= config.min_signal_to_noise * r;
-}
-
-}  // namespace
-
 std::optional<float> refine_along_row(const cv::Mat& left, const cv::Mat& right, const cv::Point2f& left_px,
                                       float right_x, const StereoRowMatchConfig& config) {
   const int w = config.window_px, half = w / 2;
@@ -60,10 +43,7 @@ std::optional<float> refine_along_row(const cv::Mat& left, const cv::Mat& right,
     const double step = num / gxx;
     x -= static_cast<float>(step);
     if (std::abs(x - x0) > config.max_shift_px) return std::nullopt;
-    if (std::abs(step) < 0.01) {
-      if (!signal_above_noise(right, x, left_px.y, tmpl, gxx, config)) return std::nullopt;
-      return x;
-    }
+    if (std::abs(step) < 0.01) return x;
   }
   return std::nullopt;
 }

@@ -16,11 +16,6 @@ struct StereoRowMatchConfig {
   /// Share of horizontal gradient energy in the left window, sum(Ix^2) / sum(Ix^2 + Iy^2),
   /// below which x is not fixed by the texture (a horizontal edge: ~0; a corner: ~0.5).
   double min_horizontal_share = 0.03;
-  /// The share above is blind to noise: on a faint horizontal edge the noise's own gradients
-  /// are as horizontal as vertical. At the solution, the residual (noise of both images) tells
-  /// what gradient energy noise alone gives, ~r / 4 for central differences; a window whose
-  /// horizontal energy sum(Ix^2) is below this many times that has no x of its own. 0: off.
-  double min_signal_to_noise = 0.0;
   /// The 1-D solution may move x by at most this far from the 2-D one (pixels).
   double max_shift_px = 3.0;
   int max_iterations = 10;
@@ -28,8 +23,7 @@ struct StereoRowMatchConfig {
 
 /// x in `right` (CV_8U, rectified) of the left pixel `left_px`, refined in 1-D along the row
 /// from `right_x`; nullopt when the window lacks horizontal texture, leaves the image, or the
-/// refinement does not converge within max_shift_px, or its horizontal gradient is noise
-/// (min_signal_to_noise).
+/// refinement does not converge within max_shift_px.
 std::optional<float> refine_along_row(const cv::Mat& left, const cv::Mat& right, const cv::Point2f& left_px,
                                       float right_x, const StereoRowMatchConfig& config = {});
 
