@@ -1,15 +1,16 @@
 #!/usr/bin/python3
-"""Runs `pllvo run` over the synthetic suite (stereo and mono) and prints the accuracy table.
+"""Runs `pllvo run` over the synthetic suite (stereo, mono, RGB-D) and prints the accuracy table.
 
   pllvo synth --suite --stereo --out /work/synth_suite        # once (stereo: both modes from one render)
-  /usr/bin/python3 scripts/vo_suite.py /work/synth_suite --out /tmp/vo_suite [--modes stereo,mono]
+  /usr/bin/python3 scripts/vo_suite.py /work/synth_suite --out /tmp/vo_suite [--modes stereo,mono,rgbd]
       [--only easy_normal,medium_normal] [--max-frames N] [--single-thread] [--config my.yaml] [--jobs 1]
 
 Every sequence folder below the root (one with mav0/) is run; the table has one row per
-sequence and mode: path length, ATE RMSE (SE3 for stereo, Sim3 for mono, from stats.json),
+sequence and mode: path length, ATE RMSE (SE3 for stereo and rgbd, Sim3 for mono, from stats.json),
 ATE in % of the path, the target (1 % for easy/medium under normal light, 2 % otherwise),
 lost frames (frames without a pose) and frames per second. The exit code is 1 when a row
-misses its target or loses frames. Standard library only.
+misses its target or loses frames. Mode rgbd (`pllvo run --rgbd`) needs sequences rendered with
+`pllvo synth --depth`. Standard library only.
 """
 import argparse
 import json
@@ -33,6 +34,8 @@ def run_one(args, seq_dir, name, mode):
     cmd = [args.pllvo, "run", seq_dir, "--out", out]
     if mode == "mono":
         cmd.append("--mono")
+    elif mode == "rgbd":
+        cmd.append("--rgbd")
     if args.single_thread:
         cmd.append("--single-thread")
     if args.config:
@@ -72,7 +75,7 @@ def main():
     p.add_argument("root", help="folder with the suite's sequences (each with mav0/)")
     p.add_argument("--out", default="/tmp/pllvo_vo_suite", help="run outputs (one folder per sequence and mode)")
     p.add_argument("--pllvo", default=os.path.join(here, "..", "build", "bin", "pllvo"))
-    p.add_argument("--modes", default="stereo,mono")
+    p.add_argument("--modes", default="stereo,mono", help="comma-separated: stereo, mono, rgbd")
     p.add_argument("--only", default="", help="comma-separated sequence names")
     p.add_argument("--max-frames", type=int, default=0)
     p.add_argument("--single-thread", action="store_true")
@@ -107,6 +110,10 @@ def main():
         print(f"| {r['sequence']} | {r['mode']} | {fmt(r['path'], '{:.2f}')} | {fmt(r['ate'], '{:.4f}')} | "
               f"{fmt(r['percent'], '{:.2f}')}{'' if ok else ' **miss**'} | {r['target']:.0f} | {r['lost']}/{r['frames']} | "
               f"{r['resets']} | {r['keyframes']} | {r['fps']:.1f} |")
+    for mode in modes:
+        values = [r["percent"] for r in rows if r["mode"] == mode and r.get("percent") is not None]
+        if values:
+            print(f"mean ATE % of path, {mode}: {sum(values) / len(values):.3f} over {len(values)} runs")
     if args.json:
         with open(args.json, "w") as f:
             json.dump(rows, f, indent=1)

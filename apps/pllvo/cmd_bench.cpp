@@ -27,6 +27,7 @@ struct BenchArgs {
   std::vector<std::string> set;
   int repeat = 1;
   bool mono = false;
+  bool rgbd = false;
   bool single_thread = false;
   size_t first = 0;
   size_t max_frames = 0;
@@ -51,6 +52,7 @@ void run_bench(const BenchArgs& a) {
   if (a.single_thread) o.overrides.push_back(report::parse_override("run.threaded=false"));
   o.repeat = a.repeat;
   o.mono = a.mono;
+  o.rgbd = a.rgbd;
   o.first_frame = a.first;
   o.max_frames = a.max_frames;
   o.realtime = a.realtime;
@@ -66,6 +68,7 @@ void run_bench(const BenchArgs& a) {
     report::SynthSuiteOptions so;
     so.presets = a.synth_presets;
     so.duration_s = a.synth_duration;
+    so.depth = a.rgbd;
     so.progress = [](const std::string& name, size_t done, size_t total) {
       if (done == total || done % 100 == 0) std::fprintf(stderr, "rendering %s: frame %zu/%zu\n", name.c_str(), done, total);
     };
@@ -107,6 +110,9 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--repeat", a->repeat, "runs per method and sequence (median and spread reported)")
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--mono", a->mono, "left camera only, also on stereo sequences (Sim3 alignment)");
+  cmd->add_flag("--rgbd", a->rgbd,
+                "left camera and its depth images (SE3 alignment); a synthetic suite is rendered with depth")
+      ->excludes("--mono");
   cmd->add_flag("--single-thread", a->single_thread, "deterministic single-thread VO (run.threaded=false)");
   cmd->add_option("--first", a->first, "first frame index of every sequence");
   cmd->add_option("--max-frames", a->max_frames, "at most this many frames per sequence (0: all)");

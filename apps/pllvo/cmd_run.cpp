@@ -30,6 +30,7 @@ struct RunArgs {
   std::string camera;
   std::string frontend;
   bool mono = false;
+  bool rgbd = false;
   bool single_thread = false;
   size_t first = 0;
   size_t max_frames = 0;
@@ -117,11 +118,16 @@ void run(const RunArgs& a) {
   options.format = a.format;
   options.camera_yaml = a.camera;
   options.mono = a.mono;
+  options.depth = !a.mono;
   const auto sequence = io::open_sequence(a.dataset, options);
 
   vo::RunOptions run_options;
   run_options.out_dir = a.out;
-  run_options.stereo = !a.mono;
+  run_options.stereo = !a.mono && !a.rgbd;
+  run_options.depth = !a.mono;
+  if (a.rgbd && !sequence->calibration().has_depth())
+    throw InputError(a.dataset, "--rgbd: the dataset has no depth images (TUM depth.txt, EuRoC cam0/depth/, an image "
+                                "folder's depth/)");
   run_options.first_frame = a.first;
   run_options.max_frames = a.max_frames;
   run_options.realtime = a.realtime;
@@ -145,7 +151,7 @@ void run(const RunArgs& a) {
 
 void print_summary(const vo::RunSummary& s, const std::string& format, const std::string& out) {
   std::printf("%s, %s, %s front end: %zu frames in %.2f s (%.1f frames/s)\n", format.c_str(),
-              s.stereo ? "stereo" : "mono", s.stats["frontend"].get<std::string>().c_str(), s.frames, s.wall_seconds,
+              s.mode(), s.stats["frontend"].get<std::string>().c_str(), s.frames, s.wall_seconds,
               s.frames_per_second);
   std::printf("tracked %zu of %zu frames, %zu keyframes, %d re-initialisations, %zu lost intervals\n",
               s.tracked_frames, s.frames, s.keyframes, s.resets, s.lost.size());
@@ -160,7 +166,7 @@ void print_summary(const vo::RunSummary& s, const std::string& format, const std
                 1e3 * s.live->latency_s.p95, 1e3 * s.live->latency_s.max,
                 s.stats["realtime"]["keyframes_requested_while_busy"].get<long long>());
   std::printf("estimated path %.3f, largest distance from the start %.4f (%s)\n", s.path_length,
-              s.max_displacement, s.stereo ? "metres" : "map units");
+              s.max_displacement, s.metric() ? "metres" : "map units");
   if (s.error) {
     std::string how = s.error->align + " alignment";
     if (s.error->align == "sim3") how += ", scale " + std::to_string(s.error->scale);
@@ -184,7 +190,11 @@ void add_run_command(CLI::App& app) {
       ->check(CLI::IsMember({"auto", "euroc", "tum", "kitti", "folder"}));
   cmd->add_option("--camera", args->camera, "camera YAML for TUM / image folders (default: camera.yaml inside); with "
                   "--source: the calibration (camera YAML, EuRoC sensor.yaml or a dataset folder)");
-  cmd->add_flag("--mono", args->mono, "use the left camera only, also on stereo datasets");
+  cmd->add_flag("--mono", args->mono, "use the left camera only, also on stereo and RGB-D datasets");
+  cmd->add_flag("--rgbd", args->rgbd,
+                "use the left camera and its depth images, also on a stereo dataset that has them (a dataset "
+                "with depth and no second camera runs RGB-D without it)")
+      ->excludes("--mono");
   cmd->add_option("--frontend", args->frontend, "point front end (overrides the config)")
       ->check(CLI::IsMember({"auto", "superpoint", "orb", "shitomasi"}));
   cmd->add_flag("--single-thread", args->single_thread,

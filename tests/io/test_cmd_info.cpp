@@ -51,6 +51,10 @@ TEST(CmdInfo, MonoAndCameraYamlOptions) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(has_line(r.output, "cam0", "pinhole-radtan  fx 500  fy 501")) << r.output;
   EXPECT_TRUE(has_line(r.output, "frames", "16\n")) << r.output;
+  // depth.txt pairs a depth image with each of the 16 colour frames (all within 20 ms), and a
+  // camera YAML without depth_factor takes TUM's 5000.
+  EXPECT_TRUE(has_line(r.output, "format", "tum (mono, depth: RGB-D)")) << r.output;
+  EXPECT_TRUE(has_line(r.output, "depth", "16 of 16 frames, metres = value / 5000")) << r.output;
 }
 
 TEST(CmdInfo, MissingFolderExitsWithTwoAndNamesIt) {

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "dataset_test_utils.h"
 #include "pllvo/io/folder_sequence.h"
 #include "pllvo/io/sequence.h"
@@ -82,4 +84,31 @@ TEST(FolderSequence, WithoutImagesTxtFpsIsRequired) {
   const auto e = expect_input_error([&] { FolderSequence seq(tmp.path()); });
   EXPECT_EQ(e.file(), (tmp / "camera.yaml").string());
   EXPECT_EQ(e.key(), "fps");
+}
+
+TEST(FolderSequence, DepthFolderGivesEachImageItsDepthInMetres) {
+  TempDir tmp;
+  const auto src = data_path("ecd_slider_hdr_close_149");
+  write_file(tmp / "camera.yaml", "width: 240\nheight: 180\nfx: 300\nfy: 300\ncx: 120\ncy: 90\nfps: 20\n");
+  for (const auto* name : {"frame_00000060.png", "frame_00000061.png"})
+    copy_into(src / "images" / name, tmp / "images" / name);
+  fs::create_directories(tmp / "depth");
+  for (const auto* name : {"frame_00000060.png", "frame_00000061.png"})
+    cv::imwrite((tmp / "depth" / name).string(), cv::Mat(180, 240, CV_16UC1, cv::Scalar(1500)));
+  // Without depth_factor the 16-bit values have no unit.
+  auto e = expect_input_error([&] { open_sequence(tmp.path()); });
+  EXPECT_EQ(e.file(), (tmp / "camera.yaml").string());
+  EXPECT_EQ(e.key(), "depth_factor");
+
+  write_file(tmp / "camera.yaml", "width: 240\nheight: 180\nfx: 300\nfy: 300\ncx: 120\ncy: 90\nfps: 20\n"
+                                  "depth_factor: 1000\n");
+  const auto seq = open_sequence(tmp.path());
+  ASSERT_TRUE(seq->calibration().has_depth());
+  const Frame f = seq->frame(1);
+  ASSERT_EQ(f.depth.type(), CV_32FC1);
+  EXPECT_FLOAT_EQ(f.depth.at<float>(90, 120), 1.5f);
+
+  fs::remove(tmp / "depth" / "frame_00000061.png");
+  e = expect_input_error([&] { open_sequence(tmp.path()); });
+  EXPECT_EQ(e.file(), (tmp / "depth" / "frame_00000061.png").string());
 }

@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "dataset_test_utils.h"
 #include "pllvo/io/sequence.h"
@@ -73,4 +74,60 @@ TEST(TumSequence, MissingCameraYamlIsNamed) {
   const auto e = expect_input_error([&] { TumSequence seq(tmp.path()); });
   EXPECT_EQ(e.file(), (tmp / "camera.yaml").string());
   EXPECT_NE(std::string(e.what()).find("--camera-yaml"), std::string::npos) << e.what();
+}
+
+TEST(TumSequence, EachColourFrameTakesTheNearestDepthImageInMetres) {
+  const auto seq = open_sequence(data_path("tum_fr3_office_snippet"));
+  const auto& calib = seq->calibration();
+  ASSERT_TRUE(calib.has_depth());
+  EXPECT_EQ(calib.depth_factor, 5000.0);  // camera.yaml's depth_factor (TUM's)
+  ASSERT_EQ(seq->depth_files().size(), 16u);
+  // rgb 1341847980.822978 and depth 1341847980.822989 are 11 us apart.
+  EXPECT_EQ(seq->depth_files()[3].filename(), "1341847980.822989.png");
+  EXPECT_EQ(seq->depth_files()[15].filename(), "1341847981.222989.png");
+  const Frame f = seq->frame(3);
+  ASSERT_EQ(f.depth.type(), CV_32FC1);
+  EXPECT_EQ(f.depth.size(), cv::Size(640, 480));
+  // The raw 16-bit value there is 10920 (read independently with Python's OpenCV): 2.184 m.
+  EXPECT_FLOAT_EQ(f.depth.at<float>(240, 320), 10920.0f / 5000.0f);
+  EXPECT_NEAR(cv::countNonZero(f.depth) / (640.0 * 480.0), 0.8288, 1e-3);  // 17 % of pixels have no depth
+}
+
+TEST(TumSequence, MonoOrNoDepthOptionLeavesTheDepthImagesOut) {
+  SequenceOptions mono;
+  mono.mono = true;
+  SequenceOptions no_depth;
+  no_depth.depth = false;
+  for (const auto& options : {mono, no_depth}) {
+    const auto seq = open_sequence(data_path("tum_fr3_office_snippet"), options);
+    EXPECT_FALSE(seq->calibration().has_depth());
+    EXPECT_TRUE(seq->depth_files().empty());
+    EXPECT_TRUE(seq->frame(3).depth.empty());
+  }
+}
+
+TEST(TumSequence, FramesWithoutADepthImageNearInTimeHaveNone) {
+  SequenceOptions options;
+  options.depth_max_dt = 5e-6;  // the nearest depth image of each colour frame is 9-71 us away
+  const auto seq = open_sequence(data_path("tum_fr3_office_snippet"), options);
+  ASSERT_TRUE(seq->calibration().has_depth());
+  for (size_t i = 0; i < seq->size(); ++i) EXPECT_TRUE(seq->depth_files()[i].empty()) << i;
+  EXPECT_TRUE(seq->frame(3).depth.empty());
+  options.depth_max_dt = 2e-5;  // 20 us: frame 3 (11.0 us) has one, frame 0 (32.2 us) none
+  const auto near = open_sequence(data_path("tum_fr3_office_snippet"), options);
+  EXPECT_TRUE(near->depth_files()[0].empty());
+  EXPECT_FALSE(near->depth_files()[3].empty());
+}
+
+TEST(TumSequence, AnEightBitDepthImageIsRefusedWithItsName) {
+  TempDir tmp;
+  const auto root = data_path("tum_fr3_office_snippet");
+  copy_into(root / "camera.yaml", tmp / "camera.yaml");
+  write_file(tmp / "rgb.txt", "1.0 " + (root / "rgb/1341847980.822978.png").string() + "\n");
+  cv::imwrite((tmp / "d.png").string(), cv::Mat(480, 640, CV_8UC1, cv::Scalar(7)));
+  write_file(tmp / "depth.txt", "1.001 d.png\n");
+  const auto seq = open_sequence(tmp.path());
+  const auto e = expect_input_error([&] { seq->frame(0); });
+  EXPECT_EQ(e.file(), (tmp / "d.png").string());
+  EXPECT_NE(std::string(e.what()).find("16-bit"), std::string::npos) << e.what();
 }

@@ -30,6 +30,17 @@ inline VoConfig deterministic() {
   return c;
 }
 
+/// The default pipeline (SuperPoint + LightGlue with the repository's weights) in the
+/// deterministic single-thread mode, without progress lines: the real-fixture tests' setting.
+inline VoConfig default_single_thread() {
+  VoConfig c;
+  c.frontend.superpoint_weights = PLLVO_SOURCE_DIR "/models/pllvo_superpoint_v1.safetensors";
+  c.mapping.lightglue_weights = PLLVO_SOURCE_DIR "/models/pllvo_lightglue_v1.safetensors";
+  c.run.threaded = false;
+  c.run.progress_interval_s = 0;
+  return c;
+}
+
 /// A count of stats.json's "counts" (0 when the run never counted it).
 inline long long stats_count(const nlohmann::json& stats, const std::string& name) {
   return stats["counts"].contains(name) ? stats["counts"][name].get<long long>() : 0;

@@ -21,14 +21,7 @@
 namespace pllvo::vo {
 namespace {
 
-VoConfig default_single_thread() {
-  VoConfig c;
-  c.frontend.superpoint_weights = PLLVO_SOURCE_DIR "/models/pllvo_superpoint_v1.safetensors";
-  c.mapping.lightglue_weights = PLLVO_SOURCE_DIR "/models/pllvo_lightglue_v1.safetensors";
-  c.run.threaded = false;
-  c.run.progress_interval_s = 0;
-  return c;
-}
+using testing::default_single_thread;
 
 /// Median over consecutive estimated frames of |estimated step| / |true step| (poses paired
 /// by timestamp): 1 is the metric scale.

@@ -19,6 +19,8 @@ DatasetCamera load_dataset_camera(const fs::path& root, const SequenceOptions& o
   out.camera = camera::camera_from_yaml(node);
   node.get("fps", out.fps);
   if (!(out.fps >= 0)) throw InputError(out.file, std::string("fps"), "must be positive");
+  node.get("depth_factor", out.depth_factor);
+  if (!(out.depth_factor >= 0)) throw InputError(out.file, std::string("depth_factor"), "must be positive");
   return out;
 }
 

@@ -12,6 +12,8 @@ struct DatasetCamera {
   std::filesystem::path file;  ///< the YAML that was read
   camera::CameraPtr camera;
   double fps = 0;  ///< the YAML's optional `fps` key; 0 when absent
+  /// The optional `depth_factor` key: units per metre of the depth images (TUM: 5000); 0 when absent.
+  double depth_factor = 0;
 };
 
 /// Reads options.camera_yaml, or `camera.yaml` in `root` when none is given. `why` says why the

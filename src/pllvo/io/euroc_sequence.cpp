@@ -127,6 +127,8 @@ EurocCameraSensor read_euroc_sensor_yaml(const fs::path& file) {
   const auto dist_model = node.require<std::string>("distortion_model");
   const auto dist = node.require<std::vector<double>>("distortion_coefficients");
   node.get("rate_hz", s.rate_hz);
+  node.get("depth_factor", s.depth_factor);
+  if (!(s.depth_factor >= 0)) throw InputError(file, std::string("depth_factor"), "must be positive");
   if (res[0] <= 0 || res[1] <= 0) throw InputError(file, std::string("resolution"), "must be positive");
   if (!(k[0] > 0 && k[1] > 0)) throw InputError(file, std::string("intrinsics"), "focal lengths must be positive");
   try {
@@ -148,6 +150,7 @@ EurocSequence::EurocSequence(const fs::path& root, const SequenceOptions& option
   calib_.T_body_cam0 = cam0.sensor.T_body_cam;
 
   std::vector<long> match;
+  std::vector<int64_t> kept_ns;  // cam0 stamps of the frames kept
   if (!options.mono && fs::is_directory(mav / "cam1")) {
     const CameraStream cam1 = read_camera_stream(mav / "cam1");
     calib_.cam1 = cam1.sensor.camera;
@@ -160,6 +163,7 @@ EurocSequence::EurocSequence(const fs::path& root, const SequenceOptions& option
         continue;
       }
       stamps_.push_back(static_cast<double>(cam0.ns[i]) / 1e9);
+      kept_ns.push_back(cam0.ns[i]);
       left_files_.push_back(cam0.files[i]);
       right_files_.push_back(cam1.files[match[i]]);
     }
@@ -171,7 +175,18 @@ EurocSequence::EurocSequence(const fs::path& root, const SequenceOptions& option
                    dropped, cam0.ns.size(), options.stereo_max_dt);
   } else {
     for (size_t i = 0; i < cam0.ns.size(); ++i) stamps_.push_back(static_cast<double>(cam0.ns[i]) / 1e9);
+    kept_ns = cam0.ns;
     left_files_ = cam0.files;
+  }
+  // Depth images beside cam0's (pllvo synth --depth): one per frame, named by its stamp.
+  const fs::path depth_dir = mav / "cam0" / "depth";
+  if (options.depth && !options.mono && fs::is_directory(depth_dir)) {
+    calib_.depth_factor = cam0.sensor.depth_factor > 0 ? cam0.sensor.depth_factor : 1000.0;
+    for (const int64_t ns : kept_ns) {
+      const fs::path file = depth_dir / (std::to_string(ns) + ".png");
+      if (!fs::is_regular_file(file)) throw InputError(file, "depth image of a listed cam0 frame not found");
+      depth_files_.push_back(file);
+    }
   }
   calib_.rate_hz = cam0.sensor.rate_hz > 0 ? cam0.sensor.rate_hz : mean_rate(stamps_);
 

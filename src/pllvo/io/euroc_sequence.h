@@ -18,6 +18,9 @@ struct EurocCameraSensor {
   camera::CameraPtr camera;
   Eigen::Isometry3d T_body_cam = Eigen::Isometry3d::Identity();  ///< T_BS, rotation re-orthonormalised
   double rate_hz = 0;                                            ///< 0 when the file has none
+  /// Units per metre of the camera's depth images (camN/depth/), the optional key
+  /// `depth_factor`; 0 when absent (pllvo's synthetic sequences write millimetres: 1000).
+  double depth_factor = 0;
 };
 /// InputError naming the file and the key (or the line, for malformed YAML).
 EurocCameraSensor read_euroc_sensor_yaml(const std::filesystem::path& file);

@@ -53,6 +53,18 @@ FolderSequence::FolderSequence(const fs::path& root, const SequenceOptions& opti
     for (size_t i = 0; i < left_files_.size(); ++i) stamps_.push_back(static_cast<double>(i) / cam.fps);
   }
   calib_.rate_hz = cam.fps > 0 ? cam.fps : mean_rate(stamps_);
+  // Depth images (RGB-D): depth/ holds one 16-bit PNG per image, of the same file name.
+  if (options.depth && !options.mono && fs::is_directory(root / "depth")) {
+    if (!(cam.depth_factor > 0))
+      throw InputError(cam.file, std::string("depth_factor"),
+                       "missing: the folder has depth/, whose 16-bit values need their units per metre");
+    calib_.depth_factor = cam.depth_factor;
+    for (const auto& image : left_files_) {
+      const fs::path file = root / "depth" / image.filename().replace_extension(".png");
+      if (!fs::is_regular_file(file)) throw InputError(file, "depth image of " + image.filename().string() + " not found");
+      depth_files_.push_back(file);
+    }
+  }
   if (fs::exists(root / "groundtruth.txt")) ground_truth_ = read_tum(root / "groundtruth.txt");
 }
 

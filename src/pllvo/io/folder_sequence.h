@@ -1,8 +1,10 @@
 #pragma once
 // A user's own camera: a folder of images plus pllvo's camera YAML.
-//   camera.yaml        intrinsics (camera/camera_yaml.h), optional `fps`
+//   camera.yaml        intrinsics (camera/camera_yaml.h), optional `fps`, `depth_factor`
 //   images.txt         optional `timestamp path` lines (seconds, paths relative to the folder)
 //   images/            the images, when there is no images.txt (else the folder itself)
+//   depth/             optional (RGB-D): per image a 16-bit PNG of the same name, registered to
+//                      the camera; metres = value / the YAML's depth_factor (required then)
 //   groundtruth.txt    optional TUM trajectory (T_world_cam)
 #include <filesystem>
 

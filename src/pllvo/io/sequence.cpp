@@ -35,6 +35,8 @@ Frame Sequence::frame(size_t i) const {
   const auto size_of = [](const camera::CameraPtr& cam) { return cv::Size(cam->width(), cam->height()); };
   f.left = read_gray_image(left_files_[i], size_of(calib_.cam0));
   if (calib_.stereo()) f.right = read_gray_image(right_files_[i], size_of(calib_.cam1));
+  if (calib_.has_depth() && i < depth_files_.size() && !depth_files_[i].empty())
+    f.depth = read_depth_image(depth_files_[i], calib_.depth_factor, size_of(calib_.cam0));
   return f;
 }
 

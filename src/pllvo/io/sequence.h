@@ -21,6 +21,9 @@ struct Frame {
   double timestamp = 0;  ///< seconds
   cv::Mat left;          ///< CV_8UC1, the calibration's size
   cv::Mat right;         ///< empty for mono
+  /// Depth of cam0's pixels (RGB-D): CV_32FC1, metres along the optical axis, 0 where the
+  /// sensor has none; empty when the sequence has no depth or none for this frame.
+  cv::Mat depth;
 };
 
 struct Calibration {
@@ -33,7 +36,11 @@ struct Calibration {
   /// The dataset's stated frame rate (EuRoC rate_hz, camera YAML `fps`); when it states
   /// none, the mean rate of the timestamps; 0 for a single frame.
   double rate_hz = 0;
+  /// Depth images (RGB-D): units per metre of their 16-bit values (TUM: 5000, pllvo's
+  /// synthetic depth: 1000); 0 when the sequence has no depth (or SequenceOptions::depth is off).
+  double depth_factor = 0;
   bool stereo() const { return cam1 != nullptr; }
+  bool has_depth() const { return depth_factor > 0; }
   /// Distance between the two optical centres in metres (0 for mono).
   double baseline() const;
 };
@@ -50,6 +57,8 @@ class Sequence {
   const std::vector<double>& timestamps() const { return stamps_; }
   /// Image file of frame i for camera 0 (left) or 1 (right); empty when not file-backed.
   std::filesystem::path image_path(size_t i, int cam = 0) const;
+  /// Depth image of each frame when calibration().has_depth() (an empty path: none), else empty.
+  const std::vector<std::filesystem::path>& depth_files() const { return depth_files_; }
   /// Loads frame i as 8-bit gray (colour and 16-bit images are converted); InputError
   /// naming the image file when it is unreadable or its size differs from the calibration.
   virtual Frame frame(size_t i) const;
@@ -63,6 +72,8 @@ class Sequence {
   std::vector<double> stamps_;
   std::vector<std::filesystem::path> left_files_;   ///< one per frame
   std::vector<std::filesystem::path> right_files_;  ///< one per frame when stereo, else empty
+  /// One per frame when calib_.has_depth() (an empty path: no depth image for that frame).
+  std::vector<std::filesystem::path> depth_files_;
   std::optional<Trajectory> ground_truth_;
 };
 
@@ -70,7 +81,13 @@ struct SequenceOptions {
   std::string format = "auto";  ///< auto | euroc | tum | kitti | folder
   /// Camera YAML for formats that ship none (TUM, folder); default: `camera.yaml` in the root.
   std::filesystem::path camera_yaml;
-  bool mono = false;  ///< ignore the second camera of a stereo dataset
+  bool mono = false;  ///< ignore the second camera of a stereo dataset, and any depth images
+  /// Read the depth images a dataset has (TUM depth.txt, EuRoC camN/depth/, an image folder's
+  /// depth/): an RGB-D sequence.
+  bool depth = true;
+  /// TUM RGB-D: a colour frame takes the depth image nearest in time when they are at most this
+  /// far apart (seconds; TUM's own association tool uses 0.02); a frame without one has no depth.
+  double depth_max_dt = 0.02;
   /// EuRoC stereo: a cam0 frame is paired with the cam1 frame nearest in time when they
   /// are at most this far apart (seconds); cam0 frames without a partner are dropped
   /// with a warning. EuRoC's cameras are hardware-synchronised (identical stamps).

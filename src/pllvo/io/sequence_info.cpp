@@ -1,5 +1,6 @@
 #include "pllvo/io/sequence_info.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -32,7 +33,9 @@ std::string describe_sequence(const Sequence& seq) {
   std::ostringstream out;
   const auto line = [&](const char* name, const std::string& value) { out << format("%-13s", name) << value << "\n"; };
   line("dataset", seq.root().string());
-  line("format", seq.format() + (calib.stereo() ? " (stereo)" : " (mono)"));
+  std::string sensors = calib.stereo() ? "stereo" : "mono";
+  if (calib.has_depth()) sensors += calib.stereo() ? ", depth" : ", depth: RGB-D";
+  line("format", seq.format() + " (" + sensors + ")");
   line("frames", std::to_string(seq.size()));
   if (!seq.empty()) {
     const double t0 = seq.timestamp(0), t1 = seq.timestamp(seq.size() - 1);
@@ -47,6 +50,11 @@ std::string describe_sequence(const Sequence& seq) {
     const auto& k = rect.rectified_intrinsics();
     line("baseline", format("%.6f m  (rectified fx %.6g  fy %.6g  cx %.6g  cy %.6g)", rect.baseline(), k.fx, k.fy,
                             k.cx, k.cy));
+  }
+  if (calib.has_depth()) {
+    const auto& files = seq.depth_files();
+    const auto with = std::count_if(files.begin(), files.end(), [](const auto& f) { return !f.empty(); });
+    line("depth", format("%td of %zu frames, metres = value / %g", with, seq.size(), calib.depth_factor));
   }
   const auto& gt = seq.ground_truth();
   if (gt && gt->has_stamps())

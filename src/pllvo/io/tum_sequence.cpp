@@ -1,5 +1,9 @@
 #include "pllvo/io/tum_sequence.h"
 
+#include <cmath>
+
+#include <spdlog/spdlog.h>
+
 #include "pllvo/common/error.h"
 #include "pllvo/io/camera_yaml_source.h"
 #include "pllvo/io/dataset_files.h"
@@ -16,6 +20,20 @@ TumSequence::TumSequence(const fs::path& root, const SequenceOptions& options) :
   stamps_ = list.stamps;
   left_files_ = list.files;
   calib_.rate_hz = cam.fps > 0 ? cam.fps : mean_rate(stamps_);
+  if (options.depth && !options.mono && fs::exists(root / "depth.txt")) {
+    const auto depth = read_image_list(root / "depth.txt", root);
+    calib_.depth_factor = cam.depth_factor > 0 ? cam.depth_factor : 5000.0;
+    size_t j = 0, missing = 0;
+    for (const double t : stamps_) {
+      while (j + 1 < depth.stamps.size() && std::abs(depth.stamps[j + 1] - t) <= std::abs(depth.stamps[j] - t)) ++j;
+      const bool near = std::abs(depth.stamps[j] - t) <= options.depth_max_dt;
+      depth_files_.push_back(near ? depth.files[j] : fs::path());
+      missing += near ? 0 : 1;
+    }
+    if (missing)
+      spdlog::warn("{}: {} of {} colour frames have no depth image within {} s; they are tracked without depth",
+                   (root / "depth.txt").string(), missing, stamps_.size(), options.depth_max_dt);
+  }
   if (fs::exists(root / "groundtruth.txt")) ground_truth_ = read_tum(root / "groundtruth.txt");
 }
 

@@ -36,7 +36,8 @@ RunMetrics run_once(const io::Sequence& sequence, const vo::VoConfig& config, co
                     const std::filesystem::path& out_dir, const std::string& prefix) {
   vo::RunOptions run;
   run.out_dir = out_dir;
-  run.stereo = !o.mono;
+  run.stereo = !o.mono && !o.rgbd;
+  run.depth = !o.mono;
   run.first_frame = o.first_frame;
   run.max_frames = o.max_frames;
   run.realtime = o.realtime;
@@ -44,6 +45,8 @@ RunMetrics run_once(const io::Sequence& sequence, const vo::VoConfig& config, co
   if (o.progress) run.progress = [&](const std::string& line) { o.progress(prefix + line); };
   RunMetrics m;
   try {
+    if (o.rgbd && !sequence.calibration().has_depth())
+      throw InputError(sequence.root(), "--rgbd: the sequence has no depth images");
     if (!out_dir.empty()) std::filesystem::create_directories(out_dir);
     const double cpu_start = process_cpu_ms();
     const vo::RunSummary s = vo::run_sequence(sequence, config, run);
@@ -52,7 +55,7 @@ RunMetrics run_once(const io::Sequence& sequence, const vo::VoConfig& config, co
     m.cpu_ms_per_frame = m.frames > 0 ? cpu / m.frames : NAN;
     const double rate = sequence.calibration().rate_hz > 0 ? sequence.calibration().rate_hz : 20.0;
     if (sequence.ground_truth())
-      add_trajectory_errors(s.trajectory, *sequence.ground_truth(), s.stereo,
+      add_trajectory_errors(s.trajectory, *sequence.ground_truth(), s.metric(),
                             static_cast<size_t>(std::lround(o.rpe_delta_s * rate)), m);
   } catch (const std::exception& e) {
     m.error = e.what();

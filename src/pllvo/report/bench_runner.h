@@ -31,6 +31,7 @@ struct BenchOptions {
   std::string speed_baseline = "orb";
   int repeat = 1;
   bool mono = false;        ///< left camera only, also on stereo sequences
+  bool rgbd = false;        ///< left camera and its depth images, also on stereo sequences that have them
   size_t first_frame = 0;
   size_t max_frames = 0;    ///< 0: whole sequences
   /// Live-rate playback (vo::LivePlayback): frames arrive at their timestamps / speed, late

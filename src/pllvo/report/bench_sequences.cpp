@@ -29,9 +29,10 @@ std::vector<BenchSequence> synth_suite_sequences(const std::filesystem::path& di
     if (!std::filesystem::exists(folder)) {
       if (o.duration_s > 0) spec.duration_s = o.duration_s;
       spec.camera.stereo = o.stereo;
+      spec.output.depth = spec.output.depth || o.depth;
       synth::validate(spec);
       spdlog::info("rendering the missing suite sequence {} ({} s{})", folder.string(), spec.duration_s,
-                   o.stereo ? ", stereo" : "");
+                   std::string(o.stereo ? ", stereo" : "") + (o.depth ? ", depth" : ""));
       synth::WriteOptions wo;
       wo.progress = o.progress;
       synth::write_sequence(spec, folder, wo);

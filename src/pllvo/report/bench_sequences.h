@@ -17,6 +17,7 @@ struct SynthSuiteOptions {
   std::vector<std::string> presets;  ///< empty: the standard suite (synth::suite_presets())
   double duration_s = 0;             ///< 0: the presets' own (30 s)
   bool stereo = true;                ///< render cam1 too (stereo runs need it; --mono ignores it)
+  bool depth = false;                ///< render cam0's depth too (RGB-D runs need it)
   /// Rendering progress: sequence name, frames done, total.
   std::function<void(const std::string&, size_t, size_t)> progress;
 };

@@ -13,8 +13,10 @@ camera::WorkingView parse_working_view(const std::string& name) {
   throw InternalError("unknown working view '" + name + "'");
 }
 
-FrameRectifier::FrameRectifier(const io::Calibration& calibration, bool use_stereo, camera::WorkingView view)
-    : calib_(calibration) {
+FrameRectifier::FrameRectifier(const io::Calibration& calibration, bool use_stereo, bool use_depth,
+                               camera::WorkingView view)
+    : calib_(calibration), use_depth_(use_depth && !use_stereo) {
+  if (use_depth_ && !calibration.has_depth()) throw InputError("depth requested but the sequence has no depth images");
   if (!calibration.cam0) throw InputError("calibration has no camera");
   const auto& cam0 = *calibration.cam0;
   if (use_stereo) {
@@ -58,9 +60,19 @@ cv::Mat FrameRectifier::to_gray(const cv::Mat& image, size_t index, const char* 
   return gray;
 }
 
-void FrameRectifier::apply(const io::Frame& frame, cv::Mat& left, cv::Mat& right) const {
+void FrameRectifier::apply(const io::Frame& frame, cv::Mat& left, cv::Mat& right, cv::Mat& depth) const {
   const auto& c0 = *calib_.cam0;
   const cv::Mat l = to_gray(frame.left, frame.index, "left", cv::Size(c0.width(), c0.height()));
+  depth = cv::Mat();
+  if (use_depth_ && !frame.depth.empty()) {
+    const std::string name = "frame " + std::to_string(frame.index) + " (depth)";
+    if (frame.depth.type() != CV_32FC1) throw InputError(name + ": depth must be CV_32FC1 metres");
+    if (frame.depth.size() != l.size()) throw InputError(name + ": depth image and colour image differ in size");
+    if (map_x_.empty())
+      depth = frame.depth;
+    else
+      cv::remap(frame.depth, depth, map_x_, map_y_, cv::INTER_NEAREST, cv::BORDER_CONSTANT, cv::Scalar(0));
+  }
   if (rectifier_) {
     const auto& c1 = *calib_.cam1;
     const cv::Mat r = to_gray(frame.right, frame.index, "right", cv::Size(c1.width(), c1.height()));

@@ -14,6 +14,28 @@ namespace {
 
 Eigen::Vector2d to_eigen(const cv::Point2f& p) { return {p.x, p.y}; }
 
+struct PixelDepth {
+  float depth = 0;  ///< metres; NaN: on a depth edge
+};
+
+/// The depth image's value at the pixel nearest `px`, when it is a measurement (config's range);
+/// NaN when its 3x3 neighbourhood's valid depths spread by more than max_local_spread of it.
+std::optional<PixelDepth> depth_at(const cv::Mat& depth, const cv::Point2f& px, const DepthConfig& config) {
+  const int x = static_cast<int>(std::lround(px.x)), y = static_cast<int>(std::lround(px.y));
+  if (x < 0 || y < 0 || x >= depth.cols || y >= depth.rows) return std::nullopt;
+  const auto valid = [&](float d) { return std::isfinite(d) && d >= config.min_m && d <= config.max_m; };
+  const float d = depth.at<float>(y, x);
+  if (!valid(d)) return std::nullopt;
+  float lo = d, hi = d;
+  for (int v = std::max(0, y - 1); v <= std::min(depth.rows - 1, y + 1); ++v)
+    for (int u = std::max(0, x - 1); u <= std::min(depth.cols - 1, x + 1); ++u) {
+      const float n = depth.at<float>(v, u);
+      if (valid(n)) lo = std::min(lo, n), hi = std::max(hi, n);
+    }
+  if (hi - lo > config.max_local_spread * d) return PixelDepth{NAN};
+  return PixelDepth{d};
+}
+
 /// Pixel pairs of the same points in the previous keyframe and this one, for line
 /// association: shared map points, candidates tracked from it, and descriptor matches.
 std::vector<lines::PointMatch> point_matches_with(const Keyframe& prev, bool has_prev, const PointFeatures& features,
@@ -45,10 +67,11 @@ std::vector<lines::PointMatch> point_matches_with(const Keyframe& prev, bool has
 }  // namespace
 
 KeyframeProcessor::KeyframeProcessor(const VoConfig& config, const Pinhole& camera, double baseline, Map& map,
-                                     RunStats& stats)
+                                     RunStats& stats, bool depth_images)
     : config_(config),
       camera_(camera),
       baseline_(baseline),
+      depth_images_(depth_images),
       map_(map),
       stats_(stats),
       frontend_(make_point_frontend(config.frontend)),
@@ -61,7 +84,7 @@ KeyframeProcessor::KeyframeProcessor(const VoConfig& config, const Pinhole& came
 
 std::optional<double> KeyframeProcessor::line_plane_angle(const KeyframeJob& job, size_t features) const {
   const auto& plain = config_.plain_scene;
-  if (!job.right.empty() || plain.mono_line_min_plane_angle_deg <= 0 ||
+  if (baseline_ > 0 || plain.mono_line_min_plane_angle_deg <= 0 ||
       static_cast<int>(features) >= plain.mono_max_keyframe_features || job.image_noise >= config_.run.noisy_frame_noise)
     return std::nullopt;
   return plain.mono_line_min_plane_angle_deg;
@@ -69,6 +92,8 @@ std::optional<double> KeyframeProcessor::line_plane_angle(const KeyframeJob& job
 
 backend::BundleAdjustmentConfig KeyframeProcessor::window_ba_config() const {
   backend::BundleAdjustmentConfig ba = config_.backend.bundle_adjustment;
+  // RGB-D: the virtual pair has no offset to estimate.
+  if (depth_images_) ba.stereo_offset_sigma_px = 0;
   if (baseline_ > 0) return ba;
   // A monocular map has a free scale as well: a second fixed keyframe pins it.
   ba.num_fixed_oldest = std::max(2, ba.num_fixed_oldest);
@@ -96,6 +121,7 @@ std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::stereo_points(con
                                                                             const PointFeatures& features,
                                                                             const std::vector<Id>& ids,
                                                                             std::vector<cv::Point2f>& right_px) {
+  if (depth_images_) return depth_points(job, features, ids, right_px);
   ScopedTimer t(stats_, "kf_stereo");
   std::vector<std::optional<Eigen::Vector3d>> out(features.size());
   right_px.assign(features.size(), cv::Point2f(NAN, NAN));
@@ -139,6 +165,37 @@ std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::stereo_points(con
                 pts.size(), tr.rejected.lk + tr.rejected.border + tr.rejected.forward_backward + tr.rejected.appearance,
                 tr.rejected.lk, tr.rejected.border, tr.rejected.forward_backward, tr.rejected.appearance, row_rejects,
                 depth_rejects);
+  return out;
+}
+
+std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::depth_points(const KeyframeJob& job,
+                                                                           const PointFeatures& features,
+                                                                           const std::vector<Id>& ids,
+                                                                           std::vector<cv::Point2f>& right_px) {
+  ScopedTimer t(stats_, "kf_depth");
+  std::vector<std::optional<Eigen::Vector3d>> out(features.size());
+  right_px.assign(features.size(), cv::Point2f(NAN, NAN));
+  if (job.depth.empty()) return out;
+  int measured = 0, edges = 0;
+  for (size_t i = 0; i < features.size(); ++i) {
+    const auto d = depth_at(job.depth, features.points[i], config_.depth);
+    if (!d) continue;
+    if (!std::isfinite(d->depth)) {
+      ++edges;
+      continue;
+    }
+    const cv::Point2f right(features.points[i].x - static_cast<float>(camera_.fx * baseline_ / d->depth),
+                            features.points[i].y);
+    const auto p = triangulate_stereo(camera_, baseline_, to_eigen(features.points[i]), to_eigen(right),
+                                      config_.geometry.stereo);
+    if (!p) continue;
+    ++measured;
+    right_px[i] = right;
+    if (ids[i] == kNoId) out[i] = p;
+  }
+  if (edges > 0) stats_.add_count("depth_edge_rejects", edges);
+  spdlog::debug("frame {}: depth for {} of {} features ({} on depth edges)", job.frame_index, measured,
+                features.size(), edges);
   return out;
 }
 
@@ -319,7 +376,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
   }
 
   if (has_prev) reattach_by_projection(job.T_world_cam, features, ids, origins, previous);
-  const bool align = job.right.empty() && config_.mapping.mono_align_to_origin &&
+  const bool align = baseline_ <= 0 && config_.mapping.mono_align_to_origin &&
                      job.image_noise >= config_.mapping.mono_align_min_noise;
   if (align) align_to_origins(job, features, ids, origins, previous);
 
@@ -360,7 +417,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
 
   std::vector<std::optional<Eigen::Vector3d>> stereo(n);
   std::vector<cv::Point2f> right_px;
-  if (!job.right.empty()) stereo = stereo_points(job, features, ids, right_px);
+  if (baseline_ > 0) stereo = stereo_points(job, features, ids, right_px);
   std::vector<std::optional<Eigen::Vector3d>> triangulated(n);
   {
     ScopedTimer t(stats_, "kf_triangulate");
@@ -382,7 +439,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
   if (job.first && !stereo_lines && !stereo_start_ok(stereo, 0)) return result;
   // A first keyframe has no map points nor candidates yet: its pose is first used from here on
   // (stereo points into the world, lines), so a restart can still be placed in the old map.
-  if (job.first && !job.right.empty()) {
+  if (job.first && baseline_ > 0) {
     const std::optional<geometry::Pose>& known = detected.relocalised_T_world_cam;  // restart decided on this frame
     if (const auto T = known ? known : relocalise(job, features)) {
       job.T_world_cam = *T, result.relocalised = true;

@@ -34,7 +34,8 @@ struct TrackedPoint {
 struct KeyframeJob {
   size_t frame_index = 0;
   double timestamp = 0;
-  cv::Mat left, right;         ///< working images (right empty for mono)
+  cv::Mat left, right;         ///< working images (right empty for mono and RGB-D)
+  cv::Mat depth;               ///< RGB-D: `left`'s depth, CV_32F metres (0: none); else empty
   ImagePyramid left_pyramid;   ///< built by the tracker for this frame
   geometry::Pose T_world_cam = geometry::Pose::Identity();
   KeyframeReason reason = KeyframeReason::kNone;
@@ -47,6 +48,8 @@ struct KeyframeJob {
   /// constraint; absent: the keyframe detects its lines itself.
   std::optional<std::vector<lines::LineSegment>> line_detections;
   bool first = false;                ///< first keyframe of a map segment (stereo initialisation)
+  /// Stereo or RGB-D: the keyframe measures metric depth itself.
+  bool metric() const { return !right.empty() || !depth.empty(); }
 };
 
 struct KeyframeResult {
@@ -78,7 +81,10 @@ struct DetectedKeyframe {
 
 class KeyframeProcessor {
  public:
-  KeyframeProcessor(const VoConfig& config, const Pinhole& camera, double baseline, Map& map, RunStats& stats);
+  /// `baseline` > 0: a metric map, from a stereo pair or, with `depth_images`, from the jobs'
+  /// depth (VoConfig::depth: `baseline` is then the virtual pair's).
+  KeyframeProcessor(const VoConfig& config, const Pinhole& camera, double baseline, Map& map, RunStats& stats,
+                    bool depth_images = false);
 
   /// Runs on the worker (or inline in single-thread mode). A first keyframe that yields
   /// too few 3-D points is not added (result.ok false).
@@ -138,6 +144,11 @@ class KeyframeProcessor {
   std::vector<std::optional<Eigen::Vector3d>> stereo_points(const KeyframeJob& job, const PointFeatures& features,
                                                             const std::vector<Id>& ids,
                                                             std::vector<cv::Point2f>& right_px);
+  /// The same from the job's depth image (RGB-D, VoConfig::depth): the virtual right-image
+  /// position u - f b / d of every feature with a valid depth.
+  std::vector<std::optional<Eigen::Vector3d>> depth_points(const KeyframeJob& job, const PointFeatures& features,
+                                                           const std::vector<Id>& ids,
+                                                           std::vector<cv::Point2f>& right_px);
   /// Matches of the new keyframe's `features` with the previous keyframe's. With
   /// mapping.match_untracked_only, the features KLT already links to it are left out of the
   /// matcher and `linked` gets their count; otherwise every feature is matched and `linked` is 0.
@@ -164,6 +175,7 @@ class KeyframeProcessor {
   VoConfig config_;
   Pinhole camera_;
   double baseline_;
+  bool depth_images_;  ///< RGB-D: the jobs' depth in place of a right image
   /// The rectified stereo pair's horizontal offset (pixels: true disparity = measured + this),
   /// as the last window BA estimated it; new stereo points are triangulated with it.
   double stereo_offset_px_ = 0;

@@ -34,10 +34,11 @@ lines::LineTrackerConfig plain_scene_tracker(const VoConfig& config) {
 
 using namespace odometry_detail;
 
-Odometry::Odometry(const VoConfig& config, const io::Calibration& calibration, bool use_stereo, RunStats& stats)
-    : config_(config.for_mode(use_stereo && calibration.stereo())),
+Odometry::Odometry(const VoConfig& config, const io::Calibration& calibration, bool use_stereo, bool use_depth,
+                   RunStats& stats)
+    : config_(config.for_mode((use_stereo && calibration.stereo()) || (use_depth && calibration.has_depth()))),
       stats_(stats),
-      rectifier_(calibration, use_stereo && calibration.stereo(),
+      rectifier_(calibration, use_stereo && calibration.stereo(), use_depth && calibration.has_depth(),
                  parse_working_view(config_.frontend.working_view)),
       camera_(rectifier_.camera()),
       tracker_(config_.klt),
@@ -46,10 +47,11 @@ Odometry::Odometry(const VoConfig& config, const io::Calibration& calibration, b
       line_tracker_(config_.lines.tracker),
       plain_line_tracker_(plain_scene_tracker(config_)),
       line_detector_(config_.lines.detector),
-      use_directions_(use_lines_ && (rectifier_.stereo() ? config_.directions.stereo : config_.directions.mono)),
+      use_directions_(use_lines_ && (metric() ? config_.directions.stereo : config_.directions.mono)),
       directions_(config_.directions),
       policy_(config_.keyframes),
-      processor_(config_, camera_, rectifier_.baseline(), map_, stats),
+      processor_(config_, camera_, rectifier_.depth() ? config_.depth.virtual_baseline_m : rectifier_.baseline(), map_,
+                 stats, rectifier_.depth()),
       worker_(config.run.threaded, config.run.keyframe_stages) {
   // The networks run on the keyframe worker beside tracking; a single-thread run stays on one.
   if (processor_.frontend_name() == "superpoint")
@@ -107,7 +109,7 @@ FrameRecord Odometry::process(const io::Frame& frame) {
   cv::Mat left, right;
   {
     ScopedTimer t(stats_, "rectify");
-    rectifier_.apply(frame, left, right);
+    rectifier_.apply(frame, left, right, frame_depth_);
     frame_brightness_ = cv::mean(left)[0];
     normalize_brightness(left, right);
     frame_noise_ = denoise(left, right);
@@ -177,6 +179,7 @@ KeyframeJob Odometry::make_keyframe_job(const io::Frame& frame, const cv::Mat& l
   job.timestamp = frame.timestamp;
   job.left = left;
   job.right = right;
+  job.depth = frame_depth_;
   job.left_pyramid = pyramid;
   job.T_world_cam = T_world_work_;
   job.reason = reason;

@@ -40,8 +40,10 @@ struct TrackingView {
 
 class Odometry {
  public:
-  /// `use_stereo`: use cam1 when the calibration has one (else monocular).
-  Odometry(const VoConfig& config, const io::Calibration& calibration, bool use_stereo, RunStats& stats);
+  /// `use_stereo`: use cam1 when the calibration has one; else `use_depth`: use cam0's depth
+  /// images when the calibration has them (RGB-D, VoConfig::depth); else monocular.
+  Odometry(const VoConfig& config, const io::Calibration& calibration, bool use_stereo, bool use_depth,
+           RunStats& stats);
   ~Odometry();
 
   /// Processes one frame; never throws on image content (dark, blank, textureless frames
@@ -53,6 +55,9 @@ class Odometry {
   const std::vector<FrameRecord>& records() const { return records_; }
   TrackingState state() const { return state_; }
   bool stereo() const { return rectifier_.stereo(); }
+  bool depth() const { return rectifier_.depth(); }  ///< RGB-D
+  /// Stereo or RGB-D: every keyframe measures depth, a map starts on one frame at metric scale.
+  bool metric() const { return stereo() || depth(); }
   /// The keyframe matcher actually used (after the LightGlue -> MNN fallback).
   std::string matcher_name() const { return processor_.matcher_name(); }
   /// The point front end actually used (frontend.type auto resolved).
@@ -217,6 +222,7 @@ class Odometry {
   std::deque<std::pair<size_t, Eigen::Vector3d>> recent_positions_;
   std::optional<Eigen::Vector3d> gap_step_world_;
   double frame_noise_ = 0;       ///< pixel noise of the current left image (estimate_noise_sigma)
+  cv::Mat frame_depth_;          ///< RGB-D: the current frame's working depth (metres), else empty
   double frame_brightness_ = 0;  ///< mean grey level of the current left image before normalisation
   int resets_ = 0;
   geometry::Pose T_work_cam0_;

@@ -74,7 +74,8 @@ OdometrySession::OdometrySession(const VoConfig& config, const io::Calibration& 
     previous_opencv_threads_ = cv::getNumThreads();
     cv::setNumThreads(1);
   }
-  odometry_ = std::make_unique<Odometry>(config_, calibration_, options.stereo && calibration_.stereo(), stats_);
+  odometry_ = std::make_unique<Odometry>(config_, calibration_, options.stereo && calibration_.stereo(),
+                                         options.depth && calibration_.has_depth(), stats_);
 }
 
 OdometrySession::~OdometrySession() {
@@ -101,6 +102,13 @@ void OdometrySession::accept(io::Frame& frame) {
     check_size(frame.right, *calibration_.cam1, frame, "right");
   } else {
     frame.right.release();  // a monocular run ignores a second image
+  }
+  if (odometry_->depth() && !frame.depth.empty()) {
+    if (frame.depth.type() != CV_32FC1)
+      throw InputError(frame_name(frame) + ": the depth image must be CV_32FC1, metres");
+    check_size(frame.depth, cam0, frame, "depth");
+  } else if (!odometry_->depth()) {
+    frame.depth.release();
   }
   std::lock_guard<std::mutex> lock(input_mutex_);
   if (finished_) throw InputError(frame_name(frame) + ": the odometry has finished; it takes no more frames");
@@ -202,6 +210,7 @@ RunSummary OdometrySession::summary(const SessionSource& source, const std::opti
   const Odometry& odometry = *odometry_;
   RunSummary summary;
   summary.stereo = odometry.stereo();
+  summary.depth = odometry.depth();
   summary.resets = odometry.resets();
   summary.wall_seconds = wall_seconds_;
   summary.lost = lost_intervals(odometry.records());
@@ -229,10 +238,10 @@ RunSummary OdometrySession::summary(const SessionSource& source, const std::opti
   nlohmann::json j = stats_.to_json();
   j["sequence"] = source.root;
   j["format"] = source.format;
-  j["mode"] = summary.stereo ? "stereo" : "mono";
+  j["mode"] = summary.mode();
   j["frontend"] = odometry.frontend_name();
   j["matcher"] = odometry.matcher_name();
-  j["pipeline"] = {{"lines", config_.for_mode(summary.stereo).pipeline.lines},
+  j["pipeline"] = {{"lines", config_.for_mode(summary.metric()).pipeline.lines},
                    {"line_tracking", config_.pipeline.line_tracking},
                    {"cross_constraint", config_.lines.cross_constraint.enabled},
                    {"line_keyframe_trigger", config_.keyframes.use_line_trigger}};
@@ -251,7 +260,7 @@ RunSummary OdometrySession::summary(const SessionSource& source, const std::opti
   j["estimate"] = {{"path_length", summary.path_length}, {"max_displacement", summary.max_displacement}};
   j["wall_time_s"] = summary.wall_seconds;
   j["frames_per_second"] = summary.frames_per_second;
-  if (source.ground_truth) summary.error = trajectory_error(summary.trajectory, *source.ground_truth, summary.stereo);
+  if (source.ground_truth) summary.error = trajectory_error(summary.trajectory, *source.ground_truth, summary.metric());
   if (summary.error) {
     const auto& e = *summary.error;
     j["trajectory_error"] = {{"align", e.align},          {"matched_poses", e.matched_poses},

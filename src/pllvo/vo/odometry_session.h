@@ -31,6 +31,8 @@ namespace pllvo::vo {
 
 struct SessionOptions {
   bool stereo = true;  ///< use cam1 when the calibration has one
+  /// Else use the frames' depth images (io::Frame::depth) when the calibration has depth (RGB-D).
+  bool depth = true;
   /// Live input: the tracker never waits for the keyframe worker (run.wait_when_starving is
   /// forced off), as a camera does not wait for it.
   bool live = false;
@@ -58,6 +60,9 @@ struct RunSummary {
   double wall_seconds = 0;
   double frames_per_second = 0;
   bool stereo = false;
+  bool depth = false;  ///< RGB-D
+  bool metric() const { return stereo || depth; }  ///< a map at metric scale
+  const char* mode() const { return stereo ? "stereo" : depth ? "rgbd" : "mono"; }
   std::vector<LostInterval> lost;
   io::Trajectory trajectory;  ///< tracked frames, T_world_cam0
   io::Trajectory keyframe_trajectory;
@@ -99,6 +104,7 @@ class OdometrySession {
   static void save(const RunSummary& summary, const std::filesystem::path& dir);
 
   bool stereo() const { return odometry_->stereo(); }
+  bool depth() const { return odometry_->depth(); }  ///< RGB-D
   const RunStats& stats() const { return stats_; }
   RunStats& stats() { return stats_; }  ///< thread-safe: a caller may add its own timings
   /// The odometry, for read access between frames; not while live input runs.

@@ -27,7 +27,7 @@ bool Odometry::initialize(const io::Frame& frame, const cv::Mat& left, const cv:
     mono_.reset();
     return false;
   }
-  return rectifier_.stereo() ? initialize_stereo(frame, left, right, pyramid, std::move(detected), relocalised)
+  return metric() ? initialize_stereo(frame, left, right, pyramid, std::move(detected), relocalised)
                              : initialize_mono(frame, left, pyramid);
 }
 
@@ -43,7 +43,8 @@ bool Odometry::initialize_stereo(const io::Frame& frame, const cv::Mat& left, co
   T_world_work_ = result.T_world_cam;
   start_tracking(result, frame.timestamp);
   if (relocalised) *relocalised = result.relocalised;
-  spdlog::info("stereo initialisation at frame {}: {} points{}", frame.index, result.tracks.size(),
+  spdlog::info("{} initialisation at frame {}: {} points{}", stereo() ? "stereo" : "RGB-D", frame.index,
+               result.tracks.size(),
                result.relocalised ? ", relocalised in the map before the loss" : "");
   return true;
 }

@@ -81,7 +81,7 @@ bool Odometry::track_or_restart(const io::Frame& frame, const cv::Mat& left, con
                                 const ImagePyramid& pyramid, FrameRecord& record) {
   if (track(frame, left, right, pyramid, record)) return true;
   handle_lost();
-  if (!config_.pose.stereo_restart_at_once || !rectifier_.stereo()) return false;
+  if (!config_.pose.stereo_restart_at_once || !metric()) return false;
   std::optional<DetectedKeyframe> detected;
   if (state_ == TrackingState::kTracking) {
     // Coasting on the tracks left sometimes gets the pose back a frame later in the same map,
@@ -299,7 +299,7 @@ PoseEstimate Odometry::pose_from_frame_motion(size_t frame_index, const std::vec
   const PoseConfig& c = config_.pose;
   PoseEstimate est;
   // The previous frame must have its pose: the motion is measured from it.
-  if (rectifier_.stereo() || c.mono_frame_motion_min_inliers <= 0 || !has_velocity_ || lost_frames_ > 0 ||
+  if (metric() || c.mono_frame_motion_min_inliers <= 0 || !has_velocity_ || lost_frames_ > 0 ||
       frame_motion_run_ >= c.mono_frame_motion_max_frames)
     return est;
   std::vector<Eigen::Vector2d> xy0, xy1;

@@ -28,6 +28,7 @@ RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, co
                                              : std::min(sequence.size(), options.first_frame + options.max_frames);
   SessionOptions session_options;
   session_options.stereo = options.stereo;
+  session_options.depth = options.depth;
   session_options.live = options.realtime;
   OdometrySession session(config, sequence.calibration(), session_options);
   if (options.on_frame)

@@ -20,6 +20,7 @@ namespace pllvo::vo {
 struct RunOptions {
   std::filesystem::path out_dir;  ///< empty: write nothing
   bool stereo = true;             ///< use cam1 when the sequence has one
+  bool depth = true;              ///< else its depth images, when it has them (RGB-D)
   size_t first_frame = 0;
   size_t max_frames = 0;  ///< 0: to the end
   /// Receives a progress line every config.run.progress_interval_s of wall time.

@@ -145,6 +145,14 @@ void read_plain_scene(const ConfigNode& n, PlainSceneConfig& c) {
   n.reject_unknown_keys();
 }
 
+void read_depth(const ConfigNode& n, DepthConfig& c) {
+  n.get("virtual_baseline_m", c.virtual_baseline_m);
+  n.get("min_m", c.min_m);
+  n.get("max_m", c.max_m);
+  n.get("max_local_spread", c.max_local_spread);
+  n.reject_unknown_keys();
+}
+
 void read_directions(const ConfigNode& n, DirectionConfig& c) {
   n.get("mono", c.mono);
   n.get("stereo", c.stereo);
@@ -219,6 +227,7 @@ void VoConfig::read(const ConfigNode& node) {
   read_pipeline(node.child("pipeline"), pipeline);
   read_plain_scene(node.child("plain_scene"), plain_scene);
   read_directions(node.child("directions"), directions);
+  read_depth(node.child("depth"), depth);
   read_run(node.child("run"), run);
   geometry.load(node.child("geometry"));
   backend.load(node.child("backend"));
@@ -304,6 +313,10 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(d.min_known >= 1, file, "directions.min_known", "must be at least 1");
   require(d.confirm_frames >= 1, file, "directions.confirm_frames", "must be at least 1");
   require(d.max_directions > 0, file, "directions.max_directions", "must be positive");
+  require(depth.virtual_baseline_m > 0, file, "depth.virtual_baseline_m", "must be > 0");
+  require(depth.min_m > 0 && depth.max_m > depth.min_m, file, "depth.min_m",
+          "must be > 0 and below depth.max_m");
+  require(depth.max_local_spread > 0, file, "depth.max_local_spread", "must be > 0");
   require(plain_scene.max_keyframe_features >= 0, file, "plain_scene.max_keyframe_features", "must be >= 0 (0: off)");
   require(plain_scene.max_tracked_points >= 0, file, "plain_scene.max_tracked_points", "must be >= 0 (0: off)");
   require(plain_scene.line_aperture_eigen_ratio > 0 && plain_scene.line_aperture_eigen_ratio < 1, file,

@@ -366,6 +366,23 @@ struct DirectionConfig {
   int max_directions = 12;  ///< without orthogonal_only
 };
 
+/// RGB-D: a depth image is the metric source in place of a stereo pair. A feature with a
+/// valid depth d gets the right-image observation u - f b / d of a virtual rectified pair of
+/// baseline `virtual_baseline_m`, so the one-frame start, the new points and the bundle
+/// adjustment are the stereo ones. The BA's pixel noise on that observation is a depth noise
+/// that grows as d^2 (sigma_z = d^2 sigma_px / (f b)), as a structured-light or time-of-flight
+/// sensor's does; the pair's offset is not estimated (there is no second camera).
+struct DepthConfig {
+  /// 0.08 m: with TUM fr3's f = 535 px, 1 px of virtual disparity is 2.3 cm of depth at 1 m and
+  /// 21 cm at 3 m (ORB-SLAM3's TUM settings: f b = 40 px m).
+  double virtual_baseline_m = 0.08;
+  double min_m = 0.1;   ///< nearer depths are no measurement
+  double max_m = 10.0;  ///< farther ones neither (a feature there waits for two-view triangulation)
+  /// A feature whose 3x3 neighbourhood of valid depths spreads by more than this fraction of
+  /// its own depth sits on a depth edge, where the depth pixel may belong to either side: no point.
+  double max_local_spread = 0.05;
+};
+
 /// Everything else: threads, progress, output.
 struct RunConfig {
   bool threaded = true;        ///< keyframe worker thread; false: deterministic single thread
@@ -429,6 +446,7 @@ struct VoConfig {
   PipelineConfig pipeline;
   PlainSceneConfig plain_scene;
   DirectionConfig directions;
+  DepthConfig depth;
   RunConfig run;
   geometry::GeometryConfig geometry;  ///< section `geometry:` (keys of config/geometry.yaml)
   backend::BackendConfig backend;     ///< section `backend:` (keys of config/backend.yaml)
