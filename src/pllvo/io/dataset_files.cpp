@@ -98,6 +98,21 @@ template void require_strictly_increasing(const std::vector<double>&, const std:
 template void require_strictly_increasing(const std::vector<int64_t>&, const std::vector<long>&,
                                           const fs::path&);
 
+template <typename T>
+std::vector<long> nearest_in_time(const std::vector<T>& t0, const std::vector<T>& t1, T max_dt) {
+  const auto distance = [](T a, T b) { return a > b ? a - b : b - a; };
+  std::vector<long> match(t0.size(), -1);
+  if (t1.empty()) return match;
+  size_t j = 0;
+  for (size_t i = 0; i < t0.size(); ++i) {
+    while (j + 1 < t1.size() && distance(t1[j + 1], t0[i]) <= distance(t1[j], t0[i])) ++j;
+    if (distance(t1[j], t0[i]) <= max_dt) match[i] = static_cast<long>(j);
+  }
+  return match;
+}
+template std::vector<long> nearest_in_time(const std::vector<double>&, const std::vector<double>&, double);
+template std::vector<long> nearest_in_time(const std::vector<int64_t>&, const std::vector<int64_t>&, int64_t);
+
 ImageList read_image_list(const fs::path& file, const fs::path& base) {
   const auto rows = read_text_rows(file, Separator::kWhitespace);
   if (rows.empty()) throw InputError(file, "no frames listed (empty sequence; expected 'timestamp path' lines)");

@@ -44,6 +44,11 @@ struct ImageList {
 };
 ImageList read_image_list(const std::filesystem::path& file, const std::filesystem::path& base);
 
+/// For each stamp of `t0`, the index of the nearest stamp of `t1` when they are at most `max_dt`
+/// apart, else -1. Both increasing (one sweep; the later index on ties).
+template <typename T>
+std::vector<long> nearest_in_time(const std::vector<T>& t0, const std::vector<T>& t1, T max_dt);
+
 /// Mean frame rate of strictly increasing stamps (Hz); 0 for fewer than two.
 double mean_rate(const std::vector<double>& stamps);
 

@@ -101,17 +101,6 @@ CameraStream read_camera_stream(const fs::path& dir) {
   return s;
 }
 
-/// For each cam0 stamp, the index of the nearest cam1 stamp within max_dt_ns, or -1.
-std::vector<long> pair_by_time(const std::vector<int64_t>& t0, const std::vector<int64_t>& t1, int64_t max_dt_ns) {
-  std::vector<long> match(t0.size(), -1);
-  size_t j = 0;
-  for (size_t i = 0; i < t0.size(); ++i) {
-    while (j + 1 < t1.size() && std::llabs(t1[j + 1] - t0[i]) <= std::llabs(t1[j] - t0[i])) ++j;
-    if (std::llabs(t1[j] - t0[i]) <= max_dt_ns) match[i] = static_cast<long>(j);
-  }
-  return match;
-}
-
 }  // namespace
 
 EurocCameraSensor read_euroc_sensor_yaml(const fs::path& file) {
@@ -155,7 +144,7 @@ EurocSequence::EurocSequence(const fs::path& root, const SequenceOptions& option
     const CameraStream cam1 = read_camera_stream(mav / "cam1");
     calib_.cam1 = cam1.sensor.camera;
     calib_.T_body_cam1 = cam1.sensor.T_body_cam;
-    match = pair_by_time(cam0.ns, cam1.ns, std::llround(options.stereo_max_dt * 1e9));
+    match = nearest_in_time(cam0.ns, cam1.ns, static_cast<int64_t>(std::llround(options.stereo_max_dt * 1e9)));
     size_t dropped = 0;
     for (size_t i = 0; i < cam0.ns.size(); ++i) {
       if (match[i] < 0) {

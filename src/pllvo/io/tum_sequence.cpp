@@ -1,7 +1,5 @@
 #include "pllvo/io/tum_sequence.h"
 
-#include <cmath>
-
 #include <spdlog/spdlog.h>
 
 #include "pllvo/common/error.h"
@@ -23,12 +21,10 @@ TumSequence::TumSequence(const fs::path& root, const SequenceOptions& options) :
   if (options.depth && !options.mono && fs::exists(root / "depth.txt")) {
     const auto depth = read_image_list(root / "depth.txt", root);
     calib_.depth_factor = cam.depth_factor > 0 ? cam.depth_factor : 5000.0;
-    size_t j = 0, missing = 0;
-    for (const double t : stamps_) {
-      while (j + 1 < depth.stamps.size() && std::abs(depth.stamps[j + 1] - t) <= std::abs(depth.stamps[j] - t)) ++j;
-      const bool near = std::abs(depth.stamps[j] - t) <= options.depth_max_dt;
-      depth_files_.push_back(near ? depth.files[j] : fs::path());
-      missing += near ? 0 : 1;
+    size_t missing = 0;
+    for (const long j : nearest_in_time(stamps_, depth.stamps, options.depth_max_dt)) {
+      depth_files_.push_back(j >= 0 ? depth.files[j] : fs::path());
+      missing += j >= 0 ? 0 : 1;
     }
     if (missing)
       spdlog::warn("{}: {} of {} colour frames have no depth image within {} s; they are tracked without depth",

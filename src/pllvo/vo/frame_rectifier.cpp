@@ -64,10 +64,7 @@ void FrameRectifier::apply(const io::Frame& frame, cv::Mat& left, cv::Mat& right
   const auto& c0 = *calib_.cam0;
   const cv::Mat l = to_gray(frame.left, frame.index, "left", cv::Size(c0.width(), c0.height()));
   depth = cv::Mat();
-  if (use_depth_ && !frame.depth.empty()) {
-    const std::string name = "frame " + std::to_string(frame.index) + " (depth)";
-    if (frame.depth.type() != CV_32FC1) throw InputError(name + ": depth must be CV_32FC1 metres");
-    if (frame.depth.size() != l.size()) throw InputError(name + ": depth image and colour image differ in size");
+  if (use_depth_ && !frame.depth.empty()) {  // type and size checked by OdometrySession::accept
     if (map_x_.empty())
       depth = frame.depth;
     else

@@ -14,26 +14,22 @@ namespace {
 
 Eigen::Vector2d to_eigen(const cv::Point2f& p) { return {p.x, p.y}; }
 
-struct PixelDepth {
-  float depth = 0;  ///< metres; NaN: on a depth edge
-};
-
-/// The depth image's value at the pixel nearest `px`, when it is a measurement (config's range);
-/// NaN when its 3x3 neighbourhood's valid depths spread by more than max_local_spread of it.
-std::optional<PixelDepth> depth_at(const cv::Mat& depth, const cv::Point2f& px, const DepthConfig& config) {
+/// The depth image's value (metres) at the pixel nearest `px` when it is a measurement in the
+/// config's range, else 0; NaN when its 3x3 neighbourhood's valid depths spread by more than
+/// max_local_spread of it (a depth edge).
+float depth_at(const cv::Mat& depth, const cv::Point2f& px, const DepthConfig& config) {
   const int x = static_cast<int>(std::lround(px.x)), y = static_cast<int>(std::lround(px.y));
-  if (x < 0 || y < 0 || x >= depth.cols || y >= depth.rows) return std::nullopt;
+  if (x < 0 || y < 0 || x >= depth.cols || y >= depth.rows) return 0;
   const auto valid = [&](float d) { return std::isfinite(d) && d >= config.min_m && d <= config.max_m; };
   const float d = depth.at<float>(y, x);
-  if (!valid(d)) return std::nullopt;
+  if (!valid(d)) return 0;
   float lo = d, hi = d;
   for (int v = std::max(0, y - 1); v <= std::min(depth.rows - 1, y + 1); ++v)
     for (int u = std::max(0, x - 1); u <= std::min(depth.cols - 1, x + 1); ++u) {
       const float n = depth.at<float>(v, u);
       if (valid(n)) lo = std::min(lo, n), hi = std::max(hi, n);
     }
-  if (hi - lo > config.max_local_spread * d) return PixelDepth{NAN};
-  return PixelDepth{d};
+  return hi - lo > config.max_local_spread * d ? NAN : d;
 }
 
 /// Pixel pairs of the same points in the previous keyframe and this one, for line
@@ -178,13 +174,13 @@ std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::depth_points(cons
   if (job.depth.empty()) return out;
   int measured = 0, edges = 0;
   for (size_t i = 0; i < features.size(); ++i) {
-    const auto d = depth_at(job.depth, features.points[i], config_.depth);
-    if (!d) continue;
-    if (!std::isfinite(d->depth)) {
+    const float d = depth_at(job.depth, features.points[i], config_.depth);
+    if (d == 0) continue;
+    if (!std::isfinite(d)) {
       ++edges;
       continue;
     }
-    const cv::Point2f right(features.points[i].x - static_cast<float>(camera_.fx * baseline_ / d->depth),
+    const cv::Point2f right(features.points[i].x - static_cast<float>(camera_.fx * baseline_ / d),
                             features.points[i].y);
     const auto p = triangulate_stereo(camera_, baseline_, to_eigen(features.points[i]), to_eigen(right),
                                       config_.geometry.stereo);

@@ -48,8 +48,6 @@ struct KeyframeJob {
   /// constraint; absent: the keyframe detects its lines itself.
   std::optional<std::vector<lines::LineSegment>> line_detections;
   bool first = false;                ///< first keyframe of a map segment (stereo initialisation)
-  /// Stereo or RGB-D: the keyframe measures metric depth itself.
-  bool metric() const { return !right.empty() || !depth.empty(); }
 };
 
 struct KeyframeResult {
