@@ -141,23 +141,23 @@ BENCHMARK(BM_LightGlue)->ArgNames({"keypoints", "adaptive", "threads"})->ArgsPro
 // Multiply-adds x 2 of LightGlue's full forward pass (no early exit, no pruning) with n0 and n1
 // keypoints, descriptor width d and `layers` layers, counted from lightglue.cpp's products: per layer
 // and image, self-attention (qkv 6nd^2, QK^T and AV 4n^2 d, out 2nd^2, FFN 2d->2d->d 12nd^2) and
-// cross-attention (qk+v 4nd^2, out 2nd^2, FFN 12nd^2; the similarity and both messages 6 n0 n1 d for the
-// pair); input and final projections 4(n0+n1)d^2 and the final similarity 2 n0 n1 d. Element-wise
+// cross-attention (qk+v 4nd^2, out 2nd^2, FFN 12nd^2; each image's similarity and message 8 n0 n1 d
+// for the pair: the similarity is computed once per image so that the images run apart); input and final projections 4(n0+n1)d^2 and the final similarity 2 n0 n1 d. Element-wise
 // work (softmax, GELU, layer norm, rotary encoding) is left out: it is O(n d) or O(n^2) per head.
 double lightglue_flops(double n0, double n1, double d, int layers) {
   const double self = 20 * (n0 + n1) * d * d + 4 * (n0 * n0 + n1 * n1) * d;
-  const double cross = 18 * (n0 + n1) * d * d + 6 * n0 * n1 * d;
+  const double cross = 18 * (n0 + n1) * d * d + 8 * n0 * n1 * d;
   return layers * (self + cross) + 4 * (n0 + n1) * d * d + 2 * n0 * n1 * d;
 }
 
-// The best of 10 products of LightGlue's commonest shape, [n, d] x [d, 3d] (the self-attention's
+// The best of 50 products of LightGlue's commonest shape, [n, d] x [d, 3d] (the self-attention's
 // qkv projection), through LibTorch at the current thread count: this machine's sgemm rate for it.
 double sgemm_gflops(int n, int d) {
   c10::InferenceMode guard;
   const at::Tensor a = at::randn({n, d}), b = at::randn({d, 3 * d});
   at::Tensor c = at::mm(a, b);
   double best = 1e30;
-  for (int i = 0; i < 10; ++i) {
+  for (int i = 0; i < 50; ++i) {  // ~2 ms each; the best is the rate when nothing else runs
     const auto t0 = std::chrono::steady_clock::now();
     c = at::mm(a, b);
     best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
@@ -167,7 +167,8 @@ double sgemm_gflops(int n, int d) {
 
 // LightGlue's forward pass against its FLOP count and the sgemm rate measured in the same run: `limit_ms`
 // is the time the products alone would take at that rate. `threads` as the pipeline sets them
-// (set_num_threads; LightGlue::match then runs LibTorch's pool at one thread, nn::MatmulThreads).
+// (set_num_threads; with 2, LightGlue::match runs each image's half of a layer on its own thread with
+// one-thread pools, nn::TwoLanes).
 void BM_LightGlueFlops(benchmark::State& state) {
   set_num_threads(static_cast<int>(state.range(1)));
   const auto& [f0, f1] = Inputs::get().pairs.at(static_cast<int>(state.range(0)));

@@ -10,7 +10,11 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <array>
 #include <regex>
+#include <stdexcept>
+#include <thread>
+#include <vector>
 #include <sstream>
 
 #include "nn_test_util.h"
@@ -76,22 +80,67 @@ TEST(Blas, ThreadCountsAreSetTogether) {
   set_num_threads(before);
 }
 
-// LightGlue's products run on OpenBLAS's threads; LibTorch's pool stays at one thread meanwhile, unless
-// OpenMP waits passively (then both pools may run: the environment of this process decides which).
-TEST(Blas, MatmulThreadsLeaveTheThreadsToOpenBlasWhileTheyLive) {
+// With 2 threads, lane 1 runs on a second thread while lane 0 runs on the caller, each with
+// LibTorch's and OpenBLAS's pools at one thread; both counts come back when the lanes end.
+TEST(Blas, TwoLanesRunApartWithOneThreadEachAndRestoreTheCounts) {
   using GetThreads = int (*)();
   auto* openblas_threads = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
   ASSERT_NE(openblas_threads, nullptr);
   const int before = num_threads();
   set_num_threads(2);
-  const char* policy = std::getenv("OMP_WAIT_POLICY");
-  const bool passive = policy && (std::string(policy) == "PASSIVE" || std::string(policy) == "passive");
   {
-    const MatmulThreads matmul;
-    EXPECT_EQ(num_threads(), passive ? 2 : 1);
-    EXPECT_EQ(openblas_threads(), 2);
+    TwoLanes lanes;
+    ASSERT_EQ(lanes.threads(), 2);
+    std::array<std::thread::id, 2> ids;
+    std::array<int, 2> torch{}, blas{};
+    for (int round = 0; round < 3; ++round) {  // the helper serves one run after another
+      lanes.run([&](int lane) {
+        ids[static_cast<std::size_t>(lane)] = std::this_thread::get_id();
+        torch[static_cast<std::size_t>(lane)] = num_threads();
+        blas[static_cast<std::size_t>(lane)] = openblas_threads();
+      });
+      EXPECT_EQ(ids[0], std::this_thread::get_id());
+      EXPECT_NE(ids[1], ids[0]);
+      EXPECT_EQ(torch, (std::array<int, 2>{1, 1}));
+      EXPECT_EQ(blas, (std::array<int, 2>{1, 1}));
+    }
   }
   EXPECT_EQ(num_threads(), 2);  // restored
+  EXPECT_EQ(openblas_threads(), 2);
+  set_num_threads(1);
+  {
+    TwoLanes lanes;
+    EXPECT_EQ(lanes.threads(), 1);
+    std::vector<int> order;
+    const auto caller = std::this_thread::get_id();
+    lanes.run([&](int lane) {
+      EXPECT_EQ(std::this_thread::get_id(), caller);
+      order.push_back(lane);
+    });
+    EXPECT_EQ(order, (std::vector<int>{0, 1}));
+  }
+  set_num_threads(before);
+}
+
+TEST(Blas, AnExceptionOnEitherLaneReachesTheCaller) {
+  const int before = num_threads();
+  set_num_threads(2);
+  {
+    TwoLanes lanes;
+    for (int failing = 0; failing < 2; ++failing) {
+      try {
+        lanes.run([&](int lane) {
+          if (lane == failing) throw std::runtime_error("lane " + std::to_string(lane));
+        });
+        ADD_FAILURE() << "no exception from lane " << failing;
+      } catch (const std::runtime_error& e) {
+        EXPECT_EQ(std::string(e.what()), "lane " + std::to_string(failing));
+      }
+    }
+    int ran = 0;  // still usable afterwards
+    lanes.run([&](int) { ++ran; });
+    EXPECT_EQ(ran, 2);
+  }
   set_num_threads(before);
 }
 

@@ -9,6 +9,7 @@
 #include "nn_test_util.h"
 #include "pllvo/common/error.h"
 #include "pllvo/nn/lightglue.h"
+#include "pllvo/nn/runtime.h"
 
 namespace pllvo::nn {
 namespace {
@@ -19,7 +20,8 @@ using test::max_abs_diff;
 struct Case {
   char setting;   // a | b | c
   char pair;      // A | B
-  friend void PrintTo(const Case& c, std::ostream* os) { *os << c.setting << "_pair" << c.pair; }
+  int threads;    // 2: each image's half of every layer on its own thread (nn::TwoLanes)
+  friend void PrintTo(const Case& c, std::ostream* os) { *os << c.setting << "_pair" << c.pair << "_" << c.threads << "threads"; }
 };
 
 std::string vector_name(const Case& c) { return std::string(1, c.setting) + "_pair" + c.pair + ".safetensors"; }
@@ -70,6 +72,11 @@ TEST_P(LightGlueVector, ReproducesOfficialOutputs) {
   const LightGlue& lg = model(c.setting, config);
   ASSERT_EQ(lg.config().depth_confidence, config.depth_confidence);
 
+  struct Threads {  // this test's count, the previous one back afterwards
+    int before = num_threads();
+    explicit Threads(int n) { set_num_threads(n); }
+    ~Threads() { set_num_threads(before); }
+  } threads(c.threads);
   LightGlueTrace trace;
   trace.want_log_assignment = true;
   const auto r = lg.match(f0, f1, &trace);
@@ -150,9 +157,13 @@ TEST_P(LightGlueVector, ReproducesOfficialOutputs) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Official, LightGlueVector,
-                         ::testing::Values(Case{'a', 'A'}, Case{'a', 'B'}, Case{'b', 'A'}, Case{'b', 'B'},
-                                           Case{'c', 'A'}, Case{'c', 'B'}),
-                         [](const auto& info) { return std::string(1, info.param.setting) + "_pair" + info.param.pair; });
+                         ::testing::Values(Case{'a', 'A', 1}, Case{'a', 'B', 1}, Case{'b', 'A', 1}, Case{'b', 'B', 1},
+                                           Case{'c', 'A', 1}, Case{'c', 'B', 1}, Case{'a', 'A', 2}, Case{'b', 'B', 2},
+                                           Case{'c', 'A', 2}),
+                         [](const auto& info) {
+                           return std::string(1, info.param.setting) + "_pair" + info.param.pair +
+                                  (info.param.threads == 1 ? "" : "_" + std::to_string(info.param.threads) + "threads");
+                         });
 
 TEST(LightGlue, ArchitectureComesFromTheWeights) {
   const auto a = lightglue_architecture(SafeTensors::load(lightglue_vector("lightglue_random_l3_d64.safetensors")));

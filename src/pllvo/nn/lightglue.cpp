@@ -1,6 +1,7 @@
 #include "pllvo/nn/lightglue.h"
 #include "pllvo/nn/runtime.h"
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <numeric>
@@ -227,23 +228,23 @@ struct LightGlue::Net {
     return feed_forward(s.ffn, x, message);
   }
 
-  void cross_attention(const CrossBlock& c, at::Tensor& x0, at::Tensor& x1) const {
+  // Cross attention for one image: x [M, D] with its own projections qkv [M, 2D] ([qk | v]) and
+  // the other image's, other [N, 2D]. The official code computes sim = qk0 qk1^T once and takes its
+  // softmax over each image's points; each image here takes the row softmax of its own product
+  // (qk1 qk0^T = sim^T), so that the two images' halves run apart (TwoLanes) and the result does not
+  // depend on the thread count.
+  at::Tensor cross_attention(const CrossBlock& c, const at::Tensor& x, const at::Tensor& qkv, const at::Tensor& other) const {
     const std::int64_t h = arch.num_heads, dh = arch.head_dim(), d = arch.descriptor_dim;
-    const at::Tensor qkv0 = c.qk_v(x0), qkv1 = c.qk_v(x1);  // [M, 2D], [N, 2D]
     const auto heads = [&](const at::Tensor& t, std::int64_t offset) {
       return t.narrow(1, offset, d).view({t.size(0), h, dh}).transpose(0, 1);  // [H, *, dh]
     };
     // Official: both sides times scale**0.5; here one side times scale (same product).
-    const at::Tensor qk0 = heads(qkv0, 0).mul(1.0 / std::sqrt(static_cast<double>(dh)));
-    at::Tensor sim = at::bmm(qk0, heads(qkv1, 0).transpose(1, 2));  // [H, M, N]
-    const at::Tensor attn10 = at::softmax(sim, 1);                   // over image 0's points
-    at::_softmax_out(sim, sim, 2, false);                           // over image 1's, in place
-    const at::Tensor m0 = at::bmm(sim, heads(qkv1, d));
-    const at::Tensor m1 = at::bmm(attn10.transpose(1, 2), heads(qkv0, d));
-    const auto merge = [&](const at::Tensor& m) { return c.to_out(m.transpose(0, 1).reshape({m.size(1), d})); };
-    const at::Tensor msg0 = merge(m0), msg1 = merge(m1);
-    x0 = feed_forward(c.ffn, x0, msg0);
-    x1 = feed_forward(c.ffn, x1, msg1);
+    const at::Tensor qk = heads(qkv, 0).mul(1.0 / std::sqrt(static_cast<double>(dh)));
+    at::Tensor sim = at::bmm(qk, heads(other, 0).transpose(1, 2));  // [H, M, N]
+    at::_softmax_out(sim, sim, 2, false);                          // over the other image's points, in place
+    const at::Tensor m = at::bmm(sim, heads(other, d));            // [H, M, dh]
+    const at::Tensor message = c.to_out(m.transpose(0, 1).reshape({m.size(1), d}));
+    return feed_forward(c.ffn, x, message);
   }
 
   // The (M+1) x (N+1) log-assignment matrix (dual softmax + matchability).
@@ -282,14 +283,26 @@ struct LightGlue::Net {
   }
 
   // The transformer layers with adaptive depth and width; returns the index of the last layer run.
-  int run_layers(PointSet& p0, PointSet& p1, const LightGlueConfig& config, LightGlueTrace* trace) const {
+  // Each image's half of a layer runs on its lane; they meet for the cross projections and after
+  // the layer (exit and pruning look at both).
+  int run_layers(PointSet& p0, PointSet& p1, const LightGlueConfig& config, TwoLanes& lanes, LightGlueTrace* trace) const {
     const std::int64_t total = static_cast<std::int64_t>(p0.layers.size() + p1.layers.size());
+    const std::array<PointSet*, 2> points{&p0, &p1};
+    std::array<at::Tensor, 2> qkv;  // cross attention's [qk | v] of each image
     int layer = 0;
     for (; layer < arch.n_layers; ++layer) {
       if (p0.size() == 0 || p1.size() == 0) break;
-      p0.desc = self_attention(self_blocks[layer], p0.desc, p0.cos, p0.sin);
-      p1.desc = self_attention(self_blocks[layer], p1.desc, p1.cos, p1.sin);
-      cross_attention(cross_blocks[layer], p0.desc, p1.desc);
+      const SelfBlock& self = self_blocks[static_cast<std::size_t>(layer)];
+      const CrossBlock& cross = cross_blocks[static_cast<std::size_t>(layer)];
+      lanes.run([&](int i) {
+        PointSet& p = *points[static_cast<std::size_t>(i)];
+        p.desc = self_attention(self, p.desc, p.cos, p.sin);
+        qkv[static_cast<std::size_t>(i)] = cross.qk_v(p.desc);
+      });
+      lanes.run([&](int i) {
+        PointSet& p = *points[static_cast<std::size_t>(i)];
+        p.desc = cross_attention(cross, p.desc, qkv[static_cast<std::size_t>(i)], qkv[static_cast<std::size_t>(1 - i)]);
+      });
       if (trace && layer == 0) {
         trace->desc0_after_layer0 = to_eigen(p0.desc);
         trace->desc1_after_layer0 = to_eigen(p1.desc);
@@ -440,7 +453,7 @@ LightGlueResult LightGlue::match(const Features& f0, const Features& f1, LightGl
   check_features(f0, net.arch.input_dim, "image 0");
   check_features(f1, net.arch.input_dim, "image 1");
   c10::InferenceMode guard;
-  const MatmulThreads threads;
+  TwoLanes lanes;
 
   const at::Tensor kn0 = normalize_keypoints(f0), kn1 = normalize_keypoints(f1);
   PointSet p0 = net.encode(f0, kn0), p1 = net.encode(f1, kn1);
@@ -457,7 +470,7 @@ LightGlueResult LightGlue::match(const Features& f0, const Features& f1, LightGl
     trace->posenc_cos1 = pairs(p1.cos);
     trace->posenc_sin1 = pairs(p1.sin);
   }
-  const int last = net.run_layers(p0, p1, config_, trace);
+  const int last = net.run_layers(p0, p1, config_, lanes, trace);
 
   LightGlueResult r;
   const std::int64_t m = f0.size(), n = f1.size();

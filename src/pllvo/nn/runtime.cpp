@@ -4,11 +4,23 @@
 #include <malloc.h>
 
 #include <cstdlib>
+#include <utility>
 
 #include <ATen/Parallel.h>
+#include <c10/core/InferenceMode.h>
 #include <spdlog/spdlog.h>
 
 namespace pllvo::nn {
+
+namespace {
+
+using GetThreads = int (*)();
+using SetThreads = void (*)(int);
+
+GetThreads openblas_get_threads() { return reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads")); }
+SetThreads openblas_set_threads() { return reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")); }
+
+}  // namespace
 
 void keep_freed_memory() {
   mallopt(M_MMAP_MAX, 0);               // no mmap: every block comes from a heap...
@@ -29,29 +41,77 @@ void set_num_threads(int n) {
   }
   // Looked up at run time: the library does not link OpenBLAS itself (executables do, see
   // cmake/PllvoDependencies.cmake), and another BLAS may serve the process.
-  using SetThreads = void (*)(int);
-  if (auto* f = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) f(n);
+  if (auto set = openblas_set_threads()) set(n);
 }
 
 int num_threads() { return at::get_num_threads(); }
 
-namespace {
-
-/// libgomp's threads sleep instead of spinning when they wait (OMP_WAIT_POLICY=PASSIVE, read
-/// when libgomp loads): then both pools can run at once without taking turns on the cores.
-bool openmp_waits_passively() {
-  const char* policy = std::getenv("OMP_WAIT_POLICY");
-  return policy && (std::string(policy) == "PASSIVE" || std::string(policy) == "passive");
+TwoLanes::TwoLanes() : torch_threads_(at::get_num_threads()) {
+  if (torch_threads_ < 2) return;
+  at::set_num_threads(1);  // each lane's operations run on its own thread only
+  if (auto get = openblas_get_threads(); get && openblas_set_threads()) {
+    blas_threads_ = get();
+    openblas_set_threads()(1);
+  }
+  helper_ = std::thread([this] { helper_loop(); });
 }
 
-}  // namespace
-
-MatmulThreads::MatmulThreads() : torch_threads_(openmp_waits_passively() ? 1 : at::get_num_threads()) {
-  if (torch_threads_ > 1) at::set_num_threads(1);
+TwoLanes::~TwoLanes() {
+  if (!helper_.joinable()) return;
+  {
+    const std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  helper_.join();
+  at::set_num_threads(torch_threads_);
+  if (blas_threads_ > 0) openblas_set_threads()(blas_threads_);
 }
 
-MatmulThreads::~MatmulThreads() {
-  if (torch_threads_ > 1) at::set_num_threads(torch_threads_);
+void TwoLanes::helper_loop() {
+  const c10::InferenceMode inference;
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    wake_.wait(lock, [this] { return stop_ || job_ != nullptr; });
+    if (stop_) return;
+    const auto* job = std::exchange(job_, nullptr);
+    lock.unlock();
+    std::exception_ptr error;
+    try {
+      (*job)(1);
+    } catch (...) {
+      error = std::current_exception();
+    }
+    lock.lock();
+    error_ = error;
+    done_ = true;
+    wake_.notify_all();
+  }
+}
+
+void TwoLanes::run(const std::function<void(int lane)>& work) {
+  if (threads() == 1) {
+    work(0);
+    work(1);
+    return;
+  }
+  {
+    const std::lock_guard lock(mutex_);
+    job_ = &work;
+    done_ = false;
+    error_ = nullptr;
+  }
+  wake_.notify_all();
+  std::exception_ptr mine;
+  try {
+    work(0);
+  } catch (...) {
+    mine = std::current_exception();
+  }
+  std::unique_lock lock(mutex_);
+  wake_.wait(lock, [this] { return done_; });
+  if (mine) std::rethrow_exception(mine);
+  if (error_) std::rethrow_exception(error_);
 }
 
 std::string blas_library() {

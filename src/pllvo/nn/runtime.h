@@ -1,6 +1,11 @@
 #pragma once
 // Process-wide settings of the inference runtime (LibTorch + the BLAS it calls).
+#include <condition_variable>
+#include <exception>
+#include <functional>
+#include <mutex>
 #include <string>
+#include <thread>
 
 namespace pllvo::nn {
 
@@ -20,21 +25,39 @@ void keep_freed_memory();
 /// LibTorch's intra-op thread count.
 int num_threads();
 
-/// For work made of matrix products (LightGlue): while it lives, LibTorch's own pool runs one
-/// thread and OpenBLAS keeps the threads set_num_threads gave it, unless OpenMP's threads wait
-/// passively (OMP_WAIT_POLICY=PASSIVE in the environment), when it changes nothing. Both pools at
-/// 2 threads with OpenMP's default spin-waiting made LightGlue 3.6x slower than one thread on 2
-/// cores (each pool's threads spin while the other's work); OpenBLAS alone at 2 threads is 1.5x
-/// faster than one thread, both pools with passive waiting 1.6x (bench_nn BM_LightGlueFlops, docs/nn.md).
-class MatmulThreads {
+/// Two lanes of inference work that meet at points the caller chooses: LightGlue is the same
+/// operations on each image, meeting twice a layer (cross attention), so image 1's part can run on a
+/// second thread beside image 0's. With LibTorch's thread count (set_num_threads) at 2 or more, a
+/// helper thread runs lane 1 while the caller runs lane 0, each with LibTorch's pool and OpenBLAS at
+/// one thread (restored when this ends); otherwise the caller runs both lanes in turn. On 2 cores this
+/// makes LightGlue ~1.8x faster than one thread; letting the pools split each operation gave 1.5x
+/// (element-wise work left on one thread) or 3.6x slower (both pools spinning while the other works),
+/// see docs/nn.md. The helper runs under c10::InferenceMode, as LightGlue::match does.
+class TwoLanes {
  public:
-  MatmulThreads();
-  ~MatmulThreads();
-  MatmulThreads(const MatmulThreads&) = delete;
-  MatmulThreads& operator=(const MatmulThreads&) = delete;
+  TwoLanes();
+  ~TwoLanes();
+  TwoLanes(const TwoLanes&) = delete;
+  TwoLanes& operator=(const TwoLanes&) = delete;
+
+  /// 2 when lane 1 has its own thread, else 1.
+  int threads() const { return helper_.joinable() ? 2 : 1; }
+  /// work(0) and work(1), in parallel when threads() is 2; returns when both are done and rethrows
+  /// the first exception of either.
+  void run(const std::function<void(int lane)>& work);
 
  private:
-  int torch_threads_;
+  void helper_loop();
+
+  int torch_threads_ = 1;
+  int blas_threads_ = 0;  // 0: OpenBLAS absent or unchanged
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  const std::function<void(int)>* job_ = nullptr;
+  bool done_ = true;
+  bool stop_ = false;
+  std::exception_ptr error_;
+  std::thread helper_;  // last: started once the state above exists
 };
 
 /// The shared library that serves the Fortran BLAS symbol `sgemm_` in this process,
