@@ -123,6 +123,35 @@ TEST(KeyframeWorker, AFailedFirstPartSkipsItsSecondPart) {
     }
 }
 
+// Both stages' threads, and threads they start (the networks' helpers), run `nice` levels below
+// the caller; the caller keeps its own level.
+TEST(KeyframeWorker, ItsThreadsRunBelowTheCallersPriority) {
+  const int caller = KeyframeWorker::thread_nice();
+  if (caller > 19 - 5) GTEST_FAIL() << "this test needs a caller below nice 15, it runs at " << caller;
+  std::vector<int> levels;
+  std::mutex m;
+  {
+    KeyframeWorker worker(true, 2, 5);
+    for (int i = 0; i < 3; ++i)
+      worker.submit(
+          [&] {
+            std::lock_guard<std::mutex> lock(m);
+            levels.push_back(KeyframeWorker::thread_nice());
+          },
+          [&] {
+            int helper = -100;
+            std::thread([&] { helper = KeyframeWorker::thread_nice(); }).join();
+            std::lock_guard<std::mutex> lock(m);
+            levels.push_back(KeyframeWorker::thread_nice());
+            levels.push_back(helper);
+          });
+    worker.wait_idle();
+  }
+  EXPECT_EQ(levels, std::vector<int>(9, caller + 5));
+  EXPECT_EQ(KeyframeWorker::thread_nice(), caller);
+  EXPECT_THROW(KeyframeWorker(true, 2, 20), InternalError);
+}
+
 TEST(KeyframeWorker, RejectsAStageCountItDoesNotHave) {
   EXPECT_THROW(KeyframeWorker(true, 3), InternalError);
   EXPECT_THROW(KeyframeWorker(false, 0), InternalError);

@@ -258,6 +258,7 @@ TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {
       {"frontend:\n  superpoint_conv_layout: nhwc\n", "frontend.superpoint_conv_layout"},
       {"run:\n  network_threads: 0\n", "run.network_threads"},
       {"run:\n  keyframe_stages: 3\n", "run.keyframe_stages"},
+      {"run:\n  keyframe_worker_nice: 20\n", "run.keyframe_worker_nice"},
       {"run:\n  starving_points: -1\n", "run.starving_points"},
       {"run:\n  mono_starving_points: -1\n", "run.mono_starving_points"},
       {"run:\n  mono_noisy_starving_points: -1\n", "run.mono_noisy_starving_points"},

@@ -32,12 +32,13 @@ void set_num_threads(int n) {
   if (n <= 0) return;
   at::set_num_threads(n);
   // libgomp reads OMP_WAIT_POLICY when it loads, so it cannot be changed from here. With the
-  // default, waiting threads spin: on a busy 2-core machine that made LightGlue ~10x slower.
-  static bool warned = false;
-  if (n > 1 && !warned && !std::getenv("OMP_WAIT_POLICY")) {
-    warned = true;
-    spdlog::info("nn: {} threads with OpenMP's default spin-waiting; on a shared or busy CPU set "
-                 "OMP_WAIT_POLICY=PASSIVE before starting pllvo (docs/nn.md)", n);
+  // default, waiting threads spin; LightGlue does not use OpenMP's pool at 2 threads (TwoLanes),
+  // SuperPoint's convolutions do.
+  static bool told = false;
+  if (n > 1 && !told && !std::getenv("OMP_WAIT_POLICY")) {
+    told = true;
+    spdlog::debug("nn: {} threads with OpenMP's default spin-waiting; on a shared or busy CPU "
+                  "OMP_WAIT_POLICY=PASSIVE may help SuperPoint (docs/nn.md)", n);
   }
   // Looked up at run time: the library does not link OpenBLAS itself (executables do, see
   // cmake/PllvoDependencies.cmake), and another BLAS may serve the process.

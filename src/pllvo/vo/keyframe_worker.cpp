@@ -1,13 +1,36 @@
 #include "pllvo/vo/keyframe_worker.h"
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+
 #include "pllvo/common/error.h"
 
 namespace pllvo::vo {
 
-KeyframeWorker::KeyframeWorker(bool threaded, int stages) : threaded_(threaded), stages_(stages) {
+KeyframeWorker::KeyframeWorker(bool threaded, int stages, int nice)
+    : threaded_(threaded), stages_(stages), nice_(nice) {
   if (stages_ != 1 && stages_ != 2) throw InternalError("keyframe worker: stages must be 1 or 2");
+  if (nice_ < 0 || nice_ > 19) throw InternalError("keyframe worker: nice must be in [0, 19]");
   if (!threaded_) return;
   for (int s = 0; s < stages_; ++s) threads_.emplace_back([this, s] { loop(static_cast<size_t>(s)); });
+}
+
+int KeyframeWorker::thread_nice() {
+  errno = 0;  // -1 is a valid level: only errno tells a failure
+  const int level = getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)));
+  return level == -1 && errno != 0 ? 0 : level;
+}
+
+void KeyframeWorker::lower_this_thread() const {
+  if (nice_ == 0) return;
+  // Linux schedules each thread on its own nice value, and threads started from here (the
+  // networks' helpers) inherit it. Raising it needs no privilege; failing leaves it as it was.
+  const auto tid = static_cast<id_t>(syscall(SYS_gettid));
+  setpriority(PRIO_PROCESS, tid, std::min(19, thread_nice() + nice_));
 }
 
 KeyframeWorker::~KeyframeWorker() {
@@ -81,6 +104,7 @@ void KeyframeWorker::finish_job() {
 }
 
 void KeyframeWorker::loop(size_t stage) {
+  lower_this_thread();
   const bool last = static_cast<int>(stage) + 1 == stages_;
   for (;;) {
     Parts parts;

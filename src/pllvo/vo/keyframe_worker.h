@@ -24,7 +24,9 @@ class KeyframeWorker {
 
   /// `threaded` false: submit() runs the job before returning (single-thread mode).
   /// `stages` 1: one thread runs both parts of each job; 2: a thread per part.
-  explicit KeyframeWorker(bool threaded, int stages = 1);
+  /// `nice` > 0: the worker's threads run that much below the caller's priority (Linux nice
+  /// levels), so that the tracking thread gets a core whenever it has a frame.
+  explicit KeyframeWorker(bool threaded, int stages = 1, int nice = 0);
   ~KeyframeWorker();  ///< finishes queued jobs, then joins
   KeyframeWorker(const KeyframeWorker&) = delete;
   KeyframeWorker& operator=(const KeyframeWorker&) = delete;
@@ -42,6 +44,8 @@ class KeyframeWorker {
   /// Rethrows, on the caller's thread, the first exception a job raised.
   void rethrow_if_failed();
   bool threaded() const { return threaded_; }
+  /// The calling thread's nice level.
+  static int thread_nice();
 
  private:
   struct Parts {
@@ -51,9 +55,11 @@ class KeyframeWorker {
   /// Runs `part`; false when it threw (the failure is kept for rethrow_if_failed).
   bool run_part(const Job& part);
   void finish_job();
+  void lower_this_thread() const;
 
   bool threaded_;
   int stages_;
+  int nice_;
   mutable std::mutex mutex_;
   std::array<std::condition_variable, 2> wake_;
   std::condition_variable done_;

@@ -52,7 +52,7 @@ Odometry::Odometry(const VoConfig& config, const io::Calibration& calibration, b
       policy_(config_.keyframes),
       processor_(config_, camera_, rectifier_.depth() ? config_.depth.virtual_baseline_m : rectifier_.baseline(), map_,
                  stats, rectifier_.depth()),
-      worker_(config.run.threaded, config.run.keyframe_stages) {
+      worker_(config.run.threaded, config.run.keyframe_stages, config.run.keyframe_worker_nice) {
   // The networks run on the keyframe worker beside tracking; a single-thread run stays on one.
   if (processor_.frontend_name() == "superpoint")
     nn::set_num_threads(config_.run.threaded ? config_.run.network_threads : 1);

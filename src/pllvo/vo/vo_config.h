@@ -424,16 +424,20 @@ struct RunConfig {
     return image_noise < noisy_frame_noise ? starving_points : std::max(starving_points, noisy_starving_points);
   }
   double progress_interval_s = 2.0;  ///< wall time between progress lines (0: none)
-  /// LibTorch + OpenBLAS threads for the networks on the keyframe worker (threaded runs; a
-  /// single-thread run uses 1). Two made a quiet machine's run ~1.3x faster, but beside two
-  /// busy processes OpenMP's spin-waiting made LightGlue 6.7x slower (2291 against 341 ms per
-  /// keyframe) and the run 2.2x slower; libgomp's wait policy cannot be set from inside the
-  /// process (docs/vo.md). So one, unless the machine is yours alone.
-  int network_threads = 1;
+  /// LibTorch + OpenBLAS threads for the networks (threaded runs; a single-thread run uses 1).
+  /// With 2, LightGlue runs each image on its own thread (nn::TwoLanes, 1.9x faster than one)
+  /// and SuperPoint splits its convolutions: on 2 cores the keyframe path then keeps up with
+  /// KITTI at 10 Hz, monocular included (2 % of frames dropped live instead of 43 %), and beside
+  /// two busy processes it is as fast as one thread (docs/results.md, live rate).
+  int network_threads = 2;
   /// Threaded runs: 2 runs each keyframe's point detection (SuperPoint) on a thread of its
   /// own, beside the previous keyframe's matching and bundle adjustment; 1 runs both on one
   /// keyframe thread. Single-thread runs do everything in order on the caller's thread.
   int keyframe_stages = 2;
+  /// Threaded runs: the keyframe worker's threads run this many nice levels below the caller
+  /// (0..19; 0: same priority), so a frame that arrives while a keyframe is being made is
+  /// tracked at once instead of sharing a core with the networks.
+  int keyframe_worker_nice = 10;
 };
 
 struct VoConfig {
