@@ -44,6 +44,32 @@ cv::Mat image_view(const py::object& object, const char* which) {
                  const_cast<void*>(array.data()));
 }
 
+/// A view of a depth array as a cv::Mat (no copy): (H, W) uint16 in the calibration's units per
+/// metre or float32 metres. TypeError for another dtype, ValueError for another shape.
+cv::Mat depth_view(const py::object& object) {
+  if (object.is_none()) return cv::Mat();
+  if (!py::isinstance<py::array>(object))
+    throw py::type_error("depth image: expected a numpy array, got " + py::str(py::type::of(object)).cast<std::string>());
+  auto array = py::reinterpret_borrow<py::array>(object);
+  const bool u16 = array.dtype().is(py::dtype::of<uint16_t>()), f32 = array.dtype().is(py::dtype::of<float>());
+  if (!u16 && !f32)
+    throw py::type_error("depth image: expected dtype uint16 or float32, got " + py::str(array.dtype()).cast<std::string>());
+  if (array.ndim() != 2) throw py::value_error("depth image: expected shape (H, W), got ndim " + std::to_string(array.ndim()));
+  if (!(array.flags() & py::array::c_style))
+    throw py::value_error("depth image: the array must be C-contiguous (numpy.ascontiguousarray)");
+  return cv::Mat(static_cast<int>(array.shape(0)), static_cast<int>(array.shape(1)), u16 ? CV_16UC1 : CV_32FC1,
+                 const_cast<void*>(array.data()));
+}
+
+/// A CV_32FC1 depth image as a float32 numpy array (a copy); None when empty.
+py::object depth_to_numpy(const cv::Mat& depth) {
+  if (depth.empty()) return py::none();
+  const cv::Mat m = depth.isContinuous() ? depth : depth.clone();
+  py::array_t<float> a({static_cast<py::ssize_t>(m.rows), static_cast<py::ssize_t>(m.cols)});
+  std::memcpy(a.mutable_data(), m.data, m.total() * m.elemSize());
+  return std::move(a);
+}
+
 py::array_t<double> to_numpy(const Eigen::Matrix4d& m) {
   py::array_t<double> a({4, 4});
   auto r = a.mutable_unchecked<2>();
@@ -221,23 +247,29 @@ PYBIND11_MODULE(_pllvo, m) {
       .def_property_readonly("width", &pllvo::Calibration::width)
       .def_property_readonly("height", &pllvo::Calibration::height)
       .def_property_readonly("baseline", &pllvo::Calibration::baseline)
-      .def("left_only", &pllvo::Calibration::left_only);
+      .def("left_only", &pllvo::Calibration::left_only)
+      .def("with_depth", &pllvo::Calibration::with_depth, py::arg("units_per_metre"),
+           "RGB-D: depth images registered to the camera; uint16 ones hold units_per_metre per metre")
+      .def_property_readonly("depth", &pllvo::Calibration::depth)
+      .def_property_readonly("depth_units_per_metre", &pllvo::Calibration::depth_units_per_metre);
 
   py::class_<pllvo::Dataset>(m, "Dataset")
       .def(py::init([](const std::string& folder, bool mono) { return std::make_unique<pllvo::Dataset>(folder, mono); }),
            py::arg("folder"), py::arg("mono") = false)
       .def("__len__", &pllvo::Dataset::size)
       .def("frame",
-           [](const pllvo::Dataset& d, size_t i) {
+           [](const pllvo::Dataset& d, size_t i, bool with_depth) {
              if (i >= d.size()) throw py::index_error("frame " + std::to_string(i) + " of " + std::to_string(d.size()));
              pllvo::DatasetFrame f;
              {
                py::gil_scoped_release release;
                f = d.frame(i);
              }
+             if (with_depth) return py::make_tuple(f.timestamp, to_numpy(f.left), to_numpy(f.right), depth_to_numpy(f.depth));
              return py::make_tuple(f.timestamp, to_numpy(f.left), to_numpy(f.right));
            },
-           py::arg("i"), "(timestamp, left, right or None)")
+           py::arg("i"), py::arg("with_depth") = false,
+           "(timestamp, left, right or None); with_depth: and the depth image (float32 metres) or None")
       .def_property_readonly("calibration", &pllvo::Dataset::calibration)
       .def("ground_truth", [](const pllvo::Dataset& d) { return to_numpy(d.ground_truth()); },
            "(stamps (N,), T_world_cam0 (N, 4, 4)); empty arrays when the dataset has none");
@@ -284,6 +316,23 @@ PYBIND11_MODULE(_pllvo, m) {
            },
            py::arg("timestamp"), py::arg("left"), py::arg("right") = py::none(),
            "hand a frame to the tracking thread; True when it replaced a frame still waiting (dropped)")
+      .def("track_rgbd",
+           [](PyOdometry& self, double timestamp, const py::object& image, const py::object& depth) {
+             const cv::Mat l = image_view(image, "image");
+             const cv::Mat d = depth_view(depth);
+             py::gil_scoped_release release;
+             return self.odometry->track_rgbd(timestamp, l, d);
+           },
+           py::arg("timestamp"), py::arg("image"), py::arg("depth"),
+           "RGB-D: an image and its depth (uint16 in the calibration's units per metre, or float32 metres)")
+      .def("push_rgbd",
+           [](PyOdometry& self, double timestamp, const py::object& image, const py::object& depth) {
+             const cv::Mat l = image_view(image, "image");
+             const cv::Mat d = depth_view(depth);
+             py::gil_scoped_release release;
+             return self.odometry->push_rgbd(timestamp, l, d);
+           },
+           py::arg("timestamp"), py::arg("image"), py::arg("depth"))
       .def("on_result",
            [](PyOdometry& self, std::function<void(const pllvo::TrackResult&)> callback) {
              // pybind11's function wrapper takes the GIL for each call.
@@ -300,6 +349,7 @@ PYBIND11_MODULE(_pllvo, m) {
       .def("keyframes", [](const PyOdometry& self) { return to_numpy(self.odometry->keyframes()); })
       .def("map_points", [](const PyOdometry& self) { return rows(self.odometry->map_points()); })
       .def_property_readonly("stereo", [](const PyOdometry& self) { return self.odometry->stereo(); })
+      .def_property_readonly("rgbd", [](const PyOdometry& self) { return self.odometry->rgbd(); })
       .def("stats", [](const PyOdometry& self) { return json_to_python(self.odometry->report().stats_json); },
            "stats.json as a dict (after finish())")
       .def("save", [](const PyOdometry& self, const std::string& dir) { self.odometry->save(dir); }, py::arg("dir"));

@@ -53,6 +53,32 @@ def test_run_gives_the_cli_trajectory(cli_run, synthetic_stereo, tmp_path):
     assert stats["trajectory_error"]["ate_percent_of_path"] < 5.0  # against the sequence's ground truth
 
 
+def test_rgbd_frames_give_the_cli_trajectory(cli, shared, tmp_path):
+    tum = shared / "data" / "tum_fr3_office_snippet"
+    subprocess.run([cli, "run", str(tum), "--single-thread", "--out", str(tmp_path)], check=True, capture_output=True)
+    reference = read_tum(tmp_path / "trajectory.tum")
+    dataset = pllvo.Dataset(str(tum))
+    assert dataset.calibration.depth and dataset.calibration.depth_units_per_metre == 5000
+    for sixteen_bit in (False, True):
+        odometry = pllvo.Odometry(dataset.calibration, single_thread=True)
+        assert odometry.rgbd and not odometry.stereo
+        for i in range(len(dataset)):
+            t, image, right, depth = dataset.frame(i, with_depth=True)
+            assert right is None and depth.dtype == np.float32
+            if sixteen_bit:  # as the sensor gives it: 5000 per metre
+                depth = np.round(depth * 5000).astype(np.uint16)
+            assert odometry.track_rgbd(t, image, depth).tracked
+        odometry.finish()
+        stamps, poses = odometry.trajectory()
+        assert len(stamps) == len(reference) == 16
+        np.testing.assert_array_equal(tum_rows(stamps, poses), reference[:, :4])
+    t, image, _, depth = dataset.frame(0, with_depth=True)
+    with pytest.raises(TypeError, match="uint16 or float32"):
+        odometry.track_rgbd(t + 10, image, depth.astype(np.float64))
+    mono = pllvo.Odometry(dataset.calibration.left_only().with_depth(1000), single_thread=True)
+    assert mono.rgbd
+
+
 def test_wrong_arrays_raise_and_tracking_goes_on(synthetic_stereo):
     dataset = pllvo.Dataset(str(synthetic_stereo))
     odometry = pllvo.Odometry(dataset.calibration, single_thread=True, overrides={"frontend.type": "orb"})

@@ -90,6 +90,85 @@ TEST(OdometryApi, TracksToTheSameTrajectoryAsRunSingleThread) {
   EXPECT_EQ(odometry.report().tracked_frames, ref.tracked_frames);
 }
 
+// A camera driver fills the same buffers for every frame; the odometry keeps images past the call
+// (a keyframe's depth, the previous image for the contrast fallback), so it must not keep the
+// caller's buffers.
+TEST(OdometryApi, ACallersReusedBuffersGiveTheSameTrajectory) {
+  const vo::VoConfig config = vo::testing::default_single_thread();
+  const Dataset dataset(shared_path("data/tum_fr3_office_snippet"));
+  Odometry fresh(dataset.calibration(), config), reused(dataset.calibration(), config);
+  cv::Mat image, depth;
+  for (size_t i = 0; i < dataset.size(); ++i) {
+    const DatasetFrame f = dataset.frame(i);
+    fresh.track_rgbd(f.timestamp, f.left, f.depth);
+    f.left.copyTo(image);  // same size and type: the same memory every frame
+    f.depth.copyTo(depth);
+    reused.track_rgbd(f.timestamp, image, depth);
+    image.setTo(0);  // the driver writes into them while the odometry goes on
+    depth.setTo(0);
+  }
+  fresh.finish();
+  reused.finish();
+  const auto a = fresh.trajectory(), b = reused.trajectory();
+  ASSERT_EQ(a.size(), 16u);
+  ASSERT_EQ(b.size(), a.size());
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].T_world_cam0, b[i].T_world_cam0) << "pose " << i;
+}
+
+// RGB-D through the API: TUM fr3 office's depth images as the dataset gives them (float metres)
+// and as a camera driver would (16-bit, 5000 per metre) give `pllvo run --single-thread`'s
+// trajectory (which test_rgbd checks against the ground truth: 3.0 mm over 16/16 frames).
+TEST(OdometryApi, RgbdFramesTrackToTheSameTrajectoryAsRun) {
+  const fs::path tum = shared_path("data/tum_fr3_office_snippet");
+  const vo::VoConfig config = vo::testing::default_single_thread();
+  const vo::RunSummary ref = reference_run(tum, config, temp_dir("rgbd_ref"));
+  ASSERT_TRUE(ref.depth);
+  ASSERT_EQ(ref.tracked_frames, 16u);
+
+  const Dataset dataset(tum);
+  ASSERT_TRUE(dataset.calibration().depth());
+  EXPECT_EQ(dataset.calibration().depth_units_per_metre(), 5000.0);
+  for (const bool sixteen_bit : {false, true}) {
+    SCOPED_TRACE(sixteen_bit ? "CV_16UC1 depth" : "CV_32FC1 depth");
+    Odometry odometry(dataset.calibration(), config);
+    ASSERT_TRUE(odometry.rgbd());
+    ASSERT_FALSE(odometry.stereo());
+    for (size_t i = 0; i < dataset.size(); ++i) {
+      const DatasetFrame f = dataset.frame(i);
+      ASSERT_EQ(f.depth.type(), CV_32FC1);
+      cv::Mat depth = f.depth;
+      if (sixteen_bit) f.depth.convertTo(depth, CV_16U, 5000.0);  // back to the sensor's units
+      EXPECT_TRUE(odometry.track_rgbd(f.timestamp, f.left, depth).tracked) << "frame " << i;
+    }
+    odometry.finish();
+    expect_same_poses(odometry.trajectory(), ref.trajectory);
+  }
+
+  // A calibration without depth gives a monocular odometry that refuses depth frames; depth of
+  // another type or size is an InputError naming the frame; the next good frame still tracks.
+  const Calibration mono = Calibration::mono(CameraIntrinsics{640, 480, 535.4, 539.2, 320.1, 247.6});
+  EXPECT_FALSE(mono.depth());
+  Odometry mono_odometry(mono, config);
+  EXPECT_FALSE(mono_odometry.rgbd());
+  const DatasetFrame f0 = dataset.frame(0);
+  EXPECT_THROW(mono_odometry.track_rgbd(f0.timestamp, f0.left, f0.depth), InputError);
+  EXPECT_THROW(mono.with_depth(0), InputError);
+  EXPECT_THROW(mono.with_depth(std::numeric_limits<double>::quiet_NaN()), InputError);
+  Odometry rgbd(mono.with_depth(5000), config);
+  EXPECT_TRUE(rgbd.rgbd());
+  cv::Mat bytes;
+  f0.depth.convertTo(bytes, CV_8U);
+  try {
+    rgbd.track_rgbd(f0.timestamp, f0.left, bytes);
+    ADD_FAILURE() << "8-bit depth accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("frame 0"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("CV_16UC1"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(rgbd.track_rgbd(f0.timestamp, f0.left, f0.depth(cv::Rect(0, 0, 320, 240)).clone()), InputError);
+  EXPECT_NO_THROW(rgbd.track_rgbd(f0.timestamp, f0.left, f0.depth));
+}
+
 TEST(OdometryApi, BadFramesAreInputErrorsAndTheNextGoodFrameTracksAsUsual) {
   const vo::VoConfig config = vo::testing::deterministic();
   const vo::RunSummary ref = reference_run(stereo_sequence(), config, {});

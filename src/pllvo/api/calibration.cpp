@@ -74,4 +74,16 @@ Calibration Calibration::left_only() const {
   return Calibration(std::move(c));
 }
 
+Calibration Calibration::with_depth(double units_per_metre) const {
+  if (!std::isfinite(units_per_metre) || units_per_metre <= 0)
+    throw InputError("Calibration::with_depth: units_per_metre must be positive and finite, got " +
+                     std::to_string(units_per_metre));
+  auto c = std::make_shared<io::Calibration>(*calibration_);
+  c->depth_factor = units_per_metre;
+  return Calibration(std::move(c));
+}
+
+bool Calibration::depth() const { return calibration_->has_depth(); }
+double Calibration::depth_units_per_metre() const { return calibration_->depth_factor; }
+
 }  // namespace pllvo

@@ -44,6 +44,12 @@ class Calibration {
   double baseline() const;  ///< metres between the optical centres; 0 for mono
   /// The same calibration with the second camera left out.
   Calibration left_only() const;
+  /// RGB-D: the same calibration with depth images registered to the (left) camera; their 16-bit
+  /// values hold `units_per_metre` per metre (TUM 5000, millimetres 1000), float images are metres.
+  /// load() of a dataset with depth images already has it. InputError unless positive and finite.
+  Calibration with_depth(double units_per_metre) const;
+  bool depth() const;
+  double depth_units_per_metre() const;  ///< 0 without depth
 
   const io::Calibration& internal() const { return *calibration_; }
   explicit Calibration(std::shared_ptr<const io::Calibration> calibration);

@@ -25,7 +25,7 @@ size_t Dataset::size() const { return sequence_->size(); }
 
 DatasetFrame Dataset::frame(size_t i) const {
   io::Frame f = sequence_->frame(i);
-  return DatasetFrame{f.timestamp, f.left, f.right};
+  return DatasetFrame{f.timestamp, f.left, f.right, f.depth};
 }
 
 std::vector<StampedPose> Dataset::ground_truth() const {

@@ -20,6 +20,7 @@ struct DatasetFrame {
   double timestamp = 0;
   cv::Mat left;   ///< 8-bit gray
   cv::Mat right;  ///< empty for a monocular dataset (or mono = true)
+  cv::Mat depth;  ///< CV_32FC1 metres (0: no depth at the pixel); empty without depth images
 };
 
 class Dataset {

@@ -76,12 +76,15 @@ struct Odometry::Impl {
   long long keyframe_marks = 0;  ///< keyframe requests + initialisations counted so far
   std::function<void(const TrackResult&)> callback;
   std::optional<vo::RunSummary> summary;
+  double units_per_metre = 0;  ///< of 16-bit depth images (the calibration's)
 
   Impl(const Calibration& calibration, const vo::VoConfig& config, const OdometryOptions& options) {
     vo::SessionOptions session_options;
     session_options.stereo = options.stereo;
+    session_options.depth = options.depth;
     session_options.live = options.live;
     session = std::make_unique<vo::OdometrySession>(config, calibration.internal(), session_options);
+    units_per_metre = calibration.depth_units_per_metre();
     session->set_on_frame([this](const vo::FrameRecord& record, const vo::TrackingView& view) { on_frame(record, view); });
   }
 
@@ -119,14 +122,30 @@ struct Odometry::Impl {
     if (callback) callback(r);
   }
 
-  io::Frame frame(double timestamp, const cv::Mat& left, const cv::Mat& right) {
+  io::Frame frame(double timestamp, const cv::Mat& left, const cv::Mat& right, const cv::Mat& depth = cv::Mat()) {
     std::lock_guard<std::mutex> lock(input_mutex);
     io::Frame f;
     f.index = next_index;
     f.timestamp = timestamp;
     f.left = left;
     f.right = right;
+    f.depth = metres(depth, f.index);
     return f;
+  }
+
+  // The odometry takes depth in metres (CV_32FC1); a 16-bit image is converted with the
+  // calibration's units per metre. Always a new buffer, as for the images: a threaded odometry
+  // uses a keyframe's depth on the worker after the call returns, and the caller's buffer (a
+  // camera driver's, a numpy array) may be reused by then.
+  cv::Mat metres(const cv::Mat& depth, size_t index) const {
+    if (depth.empty()) return depth;
+    if (depth.type() == CV_32FC1) return depth.clone();
+    if (depth.type() != CV_16UC1)
+      throw InputError("frame " + std::to_string(index) + ": the depth image must be CV_16UC1 (units per metre: " +
+                       std::to_string(units_per_metre) + ") or CV_32FC1 metres; got type " + std::to_string(depth.type()));
+    cv::Mat m;
+    depth.convertTo(m, CV_32F, 1.0 / units_per_metre);
+    return m;
   }
   void accepted() {
     std::lock_guard<std::mutex> lock(input_mutex);
@@ -148,7 +167,9 @@ Odometry& Odometry::operator=(Odometry&&) noexcept = default;
 
 TrackResult Odometry::track(double timestamp, const cv::Mat& left, const cv::Mat& right) {
   std::lock_guard<std::mutex> lock(impl_->track_mutex);
-  impl_->session->process(impl_->frame(timestamp, left, right));
+  // Copies, as push() makes: the odometry keeps the last image past the call, and the caller may
+  // reuse its buffer (a camera driver's, a numpy array): OdometryApi.ACallersReusedBuffers*.
+  impl_->session->process(impl_->frame(timestamp, left.clone(), right.empty() ? right : right.clone()));
   impl_->accepted();
   return latest();
 }
@@ -156,6 +177,21 @@ TrackResult Odometry::track(double timestamp, const cv::Mat& left, const cv::Mat
 bool Odometry::push(double timestamp, const cv::Mat& left, const cv::Mat& right) {
   // Clone: the caller's buffer (a camera driver's) may be reused as soon as this returns.
   const auto replaced = impl_->session->push(impl_->frame(timestamp, left.clone(), right.empty() ? right : right.clone()));
+  impl_->accepted();
+  return replaced.has_value();
+}
+
+TrackResult Odometry::track_rgbd(double timestamp, const cv::Mat& image, const cv::Mat& depth) {
+  if (!rgbd()) throw InputError("Odometry::track_rgbd: this odometry is not RGB-D (its calibration has no depth, see Calibration::with_depth)");
+  std::lock_guard<std::mutex> lock(impl_->track_mutex);
+  impl_->session->process(impl_->frame(timestamp, image.clone(), cv::Mat(), depth));
+  impl_->accepted();
+  return latest();
+}
+
+bool Odometry::push_rgbd(double timestamp, const cv::Mat& image, const cv::Mat& depth) {
+  if (!rgbd()) throw InputError("Odometry::push_rgbd: this odometry is not RGB-D (its calibration has no depth, see Calibration::with_depth)");
+  const auto replaced = impl_->session->push(impl_->frame(timestamp, image.clone(), cv::Mat(), depth));
   impl_->accepted();
   return replaced.has_value();
 }
@@ -194,6 +230,7 @@ std::vector<Eigen::Vector3d> Odometry::map_points() const {
 }
 
 bool Odometry::stereo() const { return impl_->session->stereo(); }
+bool Odometry::rgbd() const { return impl_->session->depth(); }
 
 RunReport Odometry::report() const {
   if (!impl_->summary) throw InputError("Odometry::report(): call finish() first");

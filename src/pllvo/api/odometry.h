@@ -40,6 +40,9 @@ struct OdometryOptions {
   /// Applied after the YAML, in order: {"keyframes.max_interval_s", "0.5"}; values are YAML.
   std::vector<std::pair<std::string, std::string>> overrides;
   bool stereo = true;  ///< use the second camera when the calibration has one
+  /// Without a second camera in use: the frames' depth images when the calibration has depth
+  /// (RGB-D: track_rgbd, push_rgbd); false: monocular.
+  bool depth = true;
   /// Keyframes processed inline on the tracking thread: repeatable results (bitwise the same
   /// as `pllvo run --single-thread`), slower. Same as the override run.threaded=false.
   bool single_thread = false;
@@ -110,6 +113,11 @@ class Odometry {
   /// returns at once. When the tracker is still busy, the frame waiting for it is replaced by
   /// this one and counted as dropped (returns true then). Results go to the callback.
   bool push(double timestamp, const cv::Mat& left, const cv::Mat& right = cv::Mat());
+  /// RGB-D (the calibration has depth, see Calibration::with_depth): one image and its depth
+  /// image of the same size, CV_16UC1 in the calibration's units per metre or CV_32FC1 metres;
+  /// 0 or NaN where the sensor has no depth. An empty depth image tracks the frame without.
+  TrackResult track_rgbd(double timestamp, const cv::Mat& image, const cv::Mat& depth);
+  bool push_rgbd(double timestamp, const cv::Mat& image, const cv::Mat& depth);
   /// Called after every tracked frame on the thread that tracked it; keep it short.
   void on_result(std::function<void(const TrackResult&)> callback);
   /// The latest result (any thread); frame_index 0 and kInitializing before the first frame.
@@ -125,6 +133,7 @@ class Odometry {
   /// The map's 3-D points in the world frame.
   std::vector<Eigen::Vector3d> map_points() const;
   bool stereo() const;
+  bool rgbd() const;  ///< depth images are the metric source
   /// After finish(): counts and stats.json.
   RunReport report() const;
   /// After finish(): trajectory.tum, keyframes.tum, map.ply, stats.json in `dir` (created),
