@@ -123,11 +123,7 @@ void run(const RunArgs& a) {
 
   vo::RunOptions run_options;
   run_options.out_dir = a.out;
-  run_options.stereo = !a.mono && !a.rgbd;
-  run_options.depth = !a.mono;
-  if (a.rgbd && !sequence->calibration().has_depth())
-    throw InputError(a.dataset, "--rgbd: the dataset has no depth images (TUM depth.txt, EuRoC cam0/depth/, an image "
-                                "folder's depth/)");
+  run_options.choose_sensors(*sequence, a.mono, a.rgbd);
   run_options.first_frame = a.first;
   run_options.max_frames = a.max_frames;
   run_options.realtime = a.realtime;

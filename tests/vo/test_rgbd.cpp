@@ -4,6 +4,7 @@
 
 #include <cstdio>
 
+#include "pllvo/common/error.h"
 #include "pllvo/common/fixtures.h"
 #include "pllvo/io/sequence.h"
 #include "pllvo/vo/run_sequence.h"
@@ -53,6 +54,30 @@ RunOptions rgbd_run() {
   RunOptions o;
   o.stereo = false;  // the sequence has a second camera too: use its depth images instead
   return o;
+}
+
+// `pllvo run` / `pllvo bench` --mono and --rgbd: which sensors a run uses.
+TEST(RgbdOdometry, RunOptionsChooseTheSensorsAsTheCommandLineFlagsSay) {
+  const auto tum = io::open_sequence(shared_path("data/tum_fr3_office_snippet"));
+  const auto both = io::open_sequence(testing::rendered(stereo_and_depth_spec(), "rgbd_medium"));
+  const auto kitti = io::open_sequence(shared_path("data/kitti_06_stereo51/sequences/06"));
+  RunOptions o;
+  o.choose_sensors(*both, false, false);
+  EXPECT_TRUE(o.stereo && o.depth);  // the second camera first, else the depth images
+  o.choose_sensors(*both, false, true);
+  EXPECT_TRUE(!o.stereo && o.depth);
+  o.choose_sensors(*both, true, false);
+  EXPECT_TRUE(!o.stereo && !o.depth);
+  o.choose_sensors(*tum, false, true);
+  EXPECT_TRUE(!o.stereo && o.depth);
+  try {
+    o.choose_sensors(*kitti, false, true);
+    ADD_FAILURE() << "--rgbd accepted on a sequence without depth";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("--rgbd"), std::string::npos) << what;
+    EXPECT_NE(what.find("kitti_06_stereo51"), std::string::npos) << what;
+  }
 }
 
 TEST(RgbdOdometry, TumOfficeTracksEveryFrameAtMetricScale) {

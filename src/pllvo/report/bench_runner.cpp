@@ -36,8 +36,6 @@ RunMetrics run_once(const io::Sequence& sequence, const vo::VoConfig& config, co
                     const std::filesystem::path& out_dir, const std::string& prefix) {
   vo::RunOptions run;
   run.out_dir = out_dir;
-  run.stereo = !o.mono && !o.rgbd;
-  run.depth = !o.mono;
   run.first_frame = o.first_frame;
   run.max_frames = o.max_frames;
   run.realtime = o.realtime;
@@ -45,8 +43,7 @@ RunMetrics run_once(const io::Sequence& sequence, const vo::VoConfig& config, co
   if (o.progress) run.progress = [&](const std::string& line) { o.progress(prefix + line); };
   RunMetrics m;
   try {
-    if (o.rgbd && !sequence.calibration().has_depth())
-      throw InputError(sequence.root(), "--rgbd: the sequence has no depth images");
+    run.choose_sensors(sequence, o.mono, o.rgbd);  // in the try: a sequence without depth is its row's error
     if (!out_dir.empty()) std::filesystem::create_directories(out_dir);
     const double cpu_start = process_cpu_ms();
     const vo::RunSummary s = vo::run_sequence(sequence, config, run);

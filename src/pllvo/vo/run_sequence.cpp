@@ -19,6 +19,14 @@ std::string describe(const LostInterval& l) {
 
 }  // namespace
 
+void RunOptions::choose_sensors(const io::Sequence& sequence, bool mono, bool rgbd) {
+  stereo = !mono && !rgbd;
+  depth = !mono;
+  if (rgbd && !sequence.calibration().has_depth())
+    throw InputError(sequence.root(), "--rgbd: the dataset has no depth images (TUM depth.txt, EuRoC cam0/depth/, an "
+                                      "image folder's depth/)");
+}
+
 RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, const RunOptions& options) {
   if (sequence.size() == 0) throw InputError(sequence.root(), "the sequence has no frames");
   if (options.first_frame >= sequence.size())

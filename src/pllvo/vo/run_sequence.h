@@ -32,6 +32,11 @@ struct RunOptions {
   /// still waits for the tracker is dropped. Off: every frame is processed, as fast as it can be.
   bool realtime = false;
   double speed = 1.0;
+
+  /// The sensors as `pllvo run` and `pllvo bench` choose them: `mono`, the left camera only;
+  /// `rgbd`, its depth images also beside a second camera (InputError naming the sequence's
+  /// folder when it has none); neither, stereo with a second camera, else RGB-D with depth.
+  void choose_sensors(const io::Sequence& sequence, bool mono, bool rgbd);
 };
 
 RunSummary run_sequence(const io::Sequence& sequence, const VoConfig& config, const RunOptions& options);
