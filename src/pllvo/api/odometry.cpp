@@ -122,21 +122,42 @@ struct Odometry::Impl {
     if (callback) callback(r);
   }
 
-  io::Frame frame(double timestamp, const cv::Mat& left, const cv::Mat& right, const cv::Mat& depth = cv::Mat()) {
+  // Copies of the caller's images: the odometry keeps them past the call (the last image; a
+  // keyframe's, on the worker), and the caller may reuse its buffers at once (a camera driver's, a
+  // numpy array): OdometryApi.ACallersReusedBuffersGiveTheSameTrajectory.
+  io::Frame frame(double timestamp, const cv::Mat& left, const cv::Mat& right, const cv::Mat& depth) {
     std::lock_guard<std::mutex> lock(input_mutex);
     io::Frame f;
     f.index = next_index;
     f.timestamp = timestamp;
-    f.left = left;
-    f.right = right;
+    f.left = left.clone();
+    f.right = right.empty() ? right : right.clone();
     f.depth = metres(depth, f.index);
     return f;
   }
 
+  TrackResult track(double timestamp, const cv::Mat& left, const cv::Mat& right, const cv::Mat& depth) {
+    std::lock_guard<std::mutex> lock(track_mutex);
+    session->process(frame(timestamp, left, right, depth));
+    accepted();
+    std::lock_guard<std::mutex> result_lock(result_mutex);
+    return latest;
+  }
+
+  bool push(double timestamp, const cv::Mat& left, const cv::Mat& right, const cv::Mat& depth) {
+    const auto replaced = session->push(frame(timestamp, left, right, depth));
+    accepted();
+    return replaced.has_value();
+  }
+
+  void require_rgbd(const char* call) const {
+    if (!session->depth())
+      throw InputError(std::string("Odometry::") + call +
+                       ": this odometry is not RGB-D (its calibration has no depth, see Calibration::with_depth)");
+  }
+
   // The odometry takes depth in metres (CV_32FC1); a 16-bit image is converted with the
-  // calibration's units per metre. Always a new buffer, as for the images: a threaded odometry
-  // uses a keyframe's depth on the worker after the call returns, and the caller's buffer (a
-  // camera driver's, a numpy array) may be reused by then.
+  // calibration's units per metre. A new buffer either way, as for the images.
   cv::Mat metres(const cv::Mat& depth, size_t index) const {
     if (depth.empty()) return depth;
     if (depth.type() == CV_32FC1) return depth.clone();
@@ -166,34 +187,21 @@ Odometry::Odometry(Odometry&&) noexcept = default;
 Odometry& Odometry::operator=(Odometry&&) noexcept = default;
 
 TrackResult Odometry::track(double timestamp, const cv::Mat& left, const cv::Mat& right) {
-  std::lock_guard<std::mutex> lock(impl_->track_mutex);
-  // Copies, as push() makes: the odometry keeps the last image past the call, and the caller may
-  // reuse its buffer (a camera driver's, a numpy array): OdometryApi.ACallersReusedBuffers*.
-  impl_->session->process(impl_->frame(timestamp, left.clone(), right.empty() ? right : right.clone()));
-  impl_->accepted();
-  return latest();
+  return impl_->track(timestamp, left, right, cv::Mat());
 }
 
 bool Odometry::push(double timestamp, const cv::Mat& left, const cv::Mat& right) {
-  // Clone: the caller's buffer (a camera driver's) may be reused as soon as this returns.
-  const auto replaced = impl_->session->push(impl_->frame(timestamp, left.clone(), right.empty() ? right : right.clone()));
-  impl_->accepted();
-  return replaced.has_value();
+  return impl_->push(timestamp, left, right, cv::Mat());
 }
 
 TrackResult Odometry::track_rgbd(double timestamp, const cv::Mat& image, const cv::Mat& depth) {
-  if (!rgbd()) throw InputError("Odometry::track_rgbd: this odometry is not RGB-D (its calibration has no depth, see Calibration::with_depth)");
-  std::lock_guard<std::mutex> lock(impl_->track_mutex);
-  impl_->session->process(impl_->frame(timestamp, image.clone(), cv::Mat(), depth));
-  impl_->accepted();
-  return latest();
+  impl_->require_rgbd("track_rgbd");
+  return impl_->track(timestamp, image, cv::Mat(), depth);
 }
 
 bool Odometry::push_rgbd(double timestamp, const cv::Mat& image, const cv::Mat& depth) {
-  if (!rgbd()) throw InputError("Odometry::push_rgbd: this odometry is not RGB-D (its calibration has no depth, see Calibration::with_depth)");
-  const auto replaced = impl_->session->push(impl_->frame(timestamp, image.clone(), cv::Mat(), depth));
-  impl_->accepted();
-  return replaced.has_value();
+  impl_->require_rgbd("push_rgbd");
+  return impl_->push(timestamp, image, cv::Mat(), depth);
 }
 
 void Odometry::on_result(std::function<void(const TrackResult&)> callback) {

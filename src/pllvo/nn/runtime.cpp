@@ -50,9 +50,11 @@ int num_threads() { return at::get_num_threads(); }
 TwoLanes::TwoLanes() : torch_threads_(at::get_num_threads()) {
   if (torch_threads_ < 2) return;
   at::set_num_threads(1);  // each lane's operations run on its own thread only
-  if (auto get = openblas_get_threads(); get && openblas_set_threads()) {
+  const auto get = openblas_get_threads();
+  blas_set_threads_ = openblas_set_threads();
+  if (get && blas_set_threads_) {
     blas_threads_ = get();
-    openblas_set_threads()(1);
+    blas_set_threads_(1);
   }
   helper_ = std::thread([this] { helper_loop(); });
 }
@@ -66,7 +68,7 @@ TwoLanes::~TwoLanes() {
   wake_.notify_all();
   helper_.join();
   at::set_num_threads(torch_threads_);
-  if (blas_threads_ > 0) openblas_set_threads()(blas_threads_);
+  if (blas_threads_ > 0) blas_set_threads_(blas_threads_);
 }
 
 void TwoLanes::helper_loop() {

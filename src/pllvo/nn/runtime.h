@@ -51,6 +51,7 @@ class TwoLanes {
 
   int torch_threads_ = 1;
   int blas_threads_ = 0;  // 0: OpenBLAS absent or unchanged
+  void (*blas_set_threads_)(int) = nullptr;  // openblas_set_num_threads, looked up once
   std::mutex mutex_;
   std::condition_variable wake_;
   const std::function<void(int)>* job_ = nullptr;
