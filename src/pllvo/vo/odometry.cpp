@@ -129,6 +129,7 @@ FrameRecord Odometry::process(const io::Frame& frame) {
   }
   worker_.rethrow_if_failed();
   apply_keyframe_results();
+  if (state_ == TrackingState::kUninitialized) apply_start_outcome(frame.index);
 
   bool tracked = false;
   if (state_ == TrackingState::kTracking)

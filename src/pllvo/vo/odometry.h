@@ -3,6 +3,7 @@
 // points, PnP + RANSAC, robust refinement, keyframe decision), keyframe processing on a
 // worker thread (or inline in single-thread mode), re-initialisation after a loss.
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -27,6 +28,19 @@
 namespace pllvo::vo {
 
 enum class TrackingState { kUninitialized, kTracking };
+
+/// What a start step on the keyframe worker hands back to the tracker.
+struct StartOutcome {
+  size_t frame_index = 0;
+  double timestamp = 0;
+  cv::Mat image;          ///< the frame's working image
+  KeyframeResult result;  ///< ok: the map resumed or started; its tracks in new_tracks at followed_frame
+  PointFeatures features; ///< a detection that did not resume: a new reference's features
+  /// The features followed into the frames after frame_index (NaN: lost), oldest first.
+  std::vector<std::pair<size_t, std::vector<cv::Point2f>>> followed;
+  /// A map that started: the poses of the frames after frame_index that it was followed into.
+  std::vector<std::pair<size_t, geometry::Pose>> poses;
+};
 
 /// What the tracker holds after a frame: its working image (rectified / undistorted left) and
 /// the points and lines it follows there. For viewers and report frames; a copy of references.
@@ -98,12 +112,38 @@ class Odometry {
   bool initialize_mono(const io::Frame& frame, const cv::Mat& left, const ImagePyramid& pyramid);
   /// The directions this image shows alone, for a monocular start (empty when not used).
   std::vector<Eigen::Vector3d> start_directions(const cv::Mat& image, size_t frame_index);
-  /// A new monocular reference at this frame; `detected`: its features when already detected.
-  void start_mono_reference(const io::Frame& frame, const cv::Mat& left, std::optional<PointFeatures> detected);
-  /// pose.mono_resume_max_s: the map before the loss resumes at this frame when it relocalises
-  /// there; `detected` gets the frame's features whenever a try was made.
-  bool resume_mono(const io::Frame& frame, const cv::Mat& left, const ImagePyramid& pyramid,
-                   std::optional<PointFeatures>& detected);
+  /// pose.mono_resume_max_s: whether this frame may try to resume the map before the loss.
+  bool may_resume(const io::Frame& frame) const;
+  /// On the worker: this frame's point detection, which resumes the map before the loss when
+  /// `resume` and it relocalises there, and otherwise may open a new monocular reference.
+  void submit_start_detection(const io::Frame& frame, const cv::Mat& left, const ImagePyramid& pyramid, bool resume);
+  /// On the worker: a stereo or RGB-D map's first keyframe.
+  void submit_metric_start(const KeyframeJob& job);
+  /// On the worker: the two keyframes of a two-view start (MonoStart holds the rest).
+  void submit_two_view_start(const KeyframeJob& reference, const PointFeatures& features,
+                             const std::vector<std::optional<Eigen::Vector3d>>& points, const KeyframeJob& second,
+                             const std::vector<cv::Point2f>& second_px);
+  /// On the worker: a map that started at `job`'s frame, followed through the frames that
+  /// passed meanwhile (StartOutcome::poses), as prepare_result does for a keyframe.
+  void catch_up_on_worker(const KeyframeJob& job, StartOutcome& outcome) const;
+  /// Runs `step` as the one start step in flight; offline input (run.wait_when_starving) waits
+  /// for it, so that its outcome applies to this frame as it would on one thread.
+  void submit_start(size_t frame_index, std::function<StartOutcome()> step);
+  /// Applies a start step that came back: the map it resumed or started (brought up to the
+  /// latest frame), or the reference its detection opens. True when the map starts at
+  /// `current` itself, which then counts as tracked; `relocalised` then tells whether it
+  /// started in the map before a loss.
+  bool apply_start_outcome(size_t current, bool* relocalised = nullptr);
+  /// A new monocular reference from a detection; `late`: its features are followed from the
+  /// last frame the worker reached up to the latest processed one.
+  void open_reference(StartOutcome& outcome, bool late);
+  /// Follows `positions` (NaN: lost) through `frames` (consecutive, from the frame they are in),
+  /// appending each later frame's positions to `history`. Safe on the worker thread.
+  void follow_positions(const std::vector<std::pair<size_t, ImagePyramid>>& frames, std::vector<cv::Point2f>& positions,
+                        std::vector<std::pair<size_t, std::vector<cv::Point2f>>>& history) const;
+  /// The buffered pyramids from frame `first` to the latest processed frame (empty when the
+  /// buffer does not reach back to `first`).
+  std::vector<std::pair<size_t, ImagePyramid>> buffered_since(size_t first) const;
   /// track(); when the pose fails, handle_lost() and (stereo, pose.stereo_restart_at_once) a
   /// new map on this frame when it relocalises in the old one; it then counts as tracked.
   bool track_or_restart(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
@@ -138,6 +178,14 @@ class Odometry {
   /// Poses of the frames seen during monocular initialisation, by PnP on the new map.
   void localize_init_frames(const MonoReference& ref, const std::vector<std::optional<Eigen::Vector3d>>& points,
                             const geometry::Pose& T_world_ref);
+  /// The record of an earlier frame (nullptr: not among them, as the current frame is not yet).
+  FrameRecord* record_of(size_t frame_index);
+  /// A start's tracks (in the first of `frames`, consecutive) followed through the others, with
+  /// each later frame's pose by PnP on the map appended to `poses` where it is found. Safe on
+  /// the worker thread.
+  void follow_and_locate(const std::vector<std::pair<size_t, ImagePyramid>>& frames, std::vector<TrackedPoint>& points,
+                         std::vector<TrackedLine>& lines,
+                         std::vector<std::pair<size_t, geometry::Pose>>& poses) const;
   /// Follows `lines` from one pyramid to the next; drops those the tracker rejects. `plain`:
   /// a plain scene's frame (plain_scene.max_tracked_points), tracked with aperture handling.
   /// Re-detection mode (pipeline.line_tracking: redetect): `detected` holds the detector's
@@ -227,6 +275,23 @@ class Odometry {
   int resets_ = 0;
   geometry::Pose T_work_cam0_;
   std::unique_ptr<MonoReference> mono_;
+  /// A two-view start whose keyframes are on the worker: what applies once they come back.
+  struct MonoStart {
+    std::vector<std::optional<Eigen::Vector3d>> points;  ///< per reference feature, world
+    geometry::Pose T_world_ref, T_world_cur;
+    std::string summary;  ///< for the log line
+  };
+  std::optional<MonoStart> two_view_start_;
+  /// Starts and monocular resumes run their networks on the keyframe worker, one step at a
+  /// time, so that a live tracker keeps taking frames meanwhile (they are buffered).
+  bool start_in_flight_ = false;
+  std::optional<StartOutcome> start_outcome_;  ///< written by the worker (results_mutex_)
+  /// The latest detection that neither resumed nor opened a reference: a reference that fails
+  /// on that same frame reopens on it instead of detecting again.
+  std::optional<StartOutcome> spare_detection_;
+  /// The reference has moved enough for a two-view start while a resume try was running: the
+  /// next free step is the two-view start, not another try.
+  bool two_view_waiting_ = false;
 
   // Keyframe results come back from the worker; tracks found on a keyframe are brought up
   // to date through the pyramids of the frames that passed meanwhile.

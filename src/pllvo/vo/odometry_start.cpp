@@ -24,7 +24,7 @@ bool Odometry::initialize(const io::Frame& frame, const cv::Mat& left, const cv:
                           const ImagePyramid& pyramid, std::optional<DetectedKeyframe> detected, bool* relocalised) {
   ScopedTimer t(stats_, "init");
   if (frame_brightness_ < config_.init.min_brightness) {
-    mono_.reset();
+    if (!two_view_start_) mono_.reset();  // a two-view start on the worker still needs its reference
     return false;
   }
   return metric() ? initialize_stereo(frame, left, right, pyramid, std::move(detected), relocalised)
@@ -34,11 +34,17 @@ bool Odometry::initialize(const io::Frame& frame, const cv::Mat& left, const cv:
 bool Odometry::initialize_stereo(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
                                  const ImagePyramid& pyramid, std::optional<DetectedKeyframe> detected,
                                  bool* relocalised) {
+  // Without a detection, the start runs on the worker: a live tracker keeps taking frames
+  // meanwhile, and process() applies the outcome on the frame it comes back at.
+  if (!detected && start_in_flight_) return false;
   KeyframeJob job = make_keyframe_job(frame, left, right, pyramid, KeyframeReason::kInitialization);
   job.first = true;
   job.T_world_cam = restart_pose(frame.index, frame.timestamp);
-  const KeyframeResult result =
-      detected ? processor_.process(job, std::move(*detected)) : processor_.process(job);
+  if (!detected) {
+    submit_metric_start(job);
+    return apply_start_outcome(frame.index, relocalised);
+  }
+  const KeyframeResult result = processor_.process(job, std::move(*detected));
   if (!result.ok) return false;
   T_world_work_ = result.T_world_cam;
   start_tracking(result, frame.timestamp);
@@ -49,55 +55,27 @@ bool Odometry::initialize_stereo(const io::Frame& frame, const cv::Mat& left, co
   return true;
 }
 
-void Odometry::start_mono_reference(const io::Frame& frame, const cv::Mat& left,
-                                    std::optional<PointFeatures> detected) {
-  PointFeatures features = detected ? std::move(*detected) : processor_.detect(left);
-  if (static_cast<int>(features.size()) < config_.init.min_points) {
-    spdlog::debug("frame {}: no monocular start: {} features (needs {})", frame.index, features.size(),
-                  config_.init.min_points);
-    mono_.reset();
-    return;
-  }
-  mono_ = std::make_unique<MonoReference>();
-  mono_->frame_index = frame.index;
-  mono_->timestamp = frame.timestamp;
-  mono_->image = left;
-  mono_->current = features.points;
-  mono_->alive.assign(features.size(), 1);
-  mono_->features = std::move(features);
-  mono_->directions = start_directions(left, frame.index);
-}
-
 std::vector<Eigen::Vector3d> Odometry::start_directions(const cv::Mat& image, size_t frame_index) {
   if (!use_directions_ || config_.geometry.two_view.vanishing_sigma_deg <= 0) return {};
   ScopedTimer t(stats_, "direction_lines");
   return image_directions(direction_segments(image, frame_index), camera_.focal(), config_.directions);
 }
 
-bool Odometry::resume_mono(const io::Frame& frame, const cv::Mat& left, const ImagePyramid& pyramid,
-                           std::optional<PointFeatures>& detected) {
+bool Odometry::may_resume(const io::Frame& frame) const {
   const double max_gap = config_.pose.mono_resume_max_s;
-  if (max_gap <= 0 || !processor_.can_resume() || frame.timestamp - last_tracked_time_ > max_gap) return false;
-  detected = processor_.detect(left);
-  // The pose comes from the relocalisation itself.
-  const KeyframeJob job = make_keyframe_job(frame, left, cv::Mat(), pyramid, KeyframeReason::kRelocalisation);
-  const KeyframeResult result = processor_.resume_segment(job, *detected);
-  if (!result.ok) return false;
-  mono_.reset();
-  T_world_work_ = result.T_world_cam;
-  start_tracking(result, frame.timestamp);
-  spdlog::info("frame {}: relocalised in the map before the loss ({} points): monocular tracking resumes at its scale",
-               frame.index, count_mapped(tracks_));
-  return true;
+  return max_gap > 0 && processor_.can_resume() && frame.timestamp - last_tracked_time_ <= max_gap;
 }
 
 bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, const ImagePyramid& pyramid) {
-  std::optional<PointFeatures> detected;
-  if (resume_mono(frame, left, pyramid, detected)) return true;
-  if (!mono_ || previous_pyramid_.empty()) {
-    start_mono_reference(frame, left, std::move(detected));
-    return false;
+  // A detection (a resume try, or a new reference's features) runs on the worker; the two-view
+  // start below needs only KLT and goes on while it runs.
+  if (!start_in_flight_ && (!mono_ || (may_resume(frame) && !two_view_waiting_))) {
+    const bool had_reference = mono_ != nullptr;
+    submit_start_detection(frame, left, pyramid, may_resume(frame));
+    if (apply_start_outcome(frame.index)) return true;
+    if (!had_reference) return false;
   }
+  if (!mono_ || two_view_start_) return false;
   auto& ref = *mono_;
   ++ref.frames;
   std::vector<int> which;
@@ -127,10 +105,21 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
                 frame.index, ref.frame_index, alive, ref.features.size(), median_flow, config_.init.min_points,
                 config_.init.mono_min_flow_px);
   if (alive < config_.init.min_points || ref.frames > static_cast<size_t>(config_.init.max_frames)) {
-    start_mono_reference(frame, left, std::move(detected));
+    // A new reference on this frame: on the detection made for it already, else on a new one.
+    mono_.reset();
+    if (spare_detection_ && spare_detection_->frame_index == frame.index) {
+      StartOutcome spare = std::move(*spare_detection_);
+      open_reference(spare, false);
+    } else if (!start_in_flight_) {
+      submit_start_detection(frame, left, pyramid, false);
+      apply_start_outcome(frame.index);
+    }
     return false;
   }
   if (median_flow < config_.init.mono_min_flow_px) return false;
+  // One start step at a time: a resume try still running is waited for on later frames.
+  two_view_waiting_ = start_in_flight_;
+  if (start_in_flight_) return false;
 
   const geometry::ViewDirections directions{ref.directions, start_directions(left, frame.index)};
   const TwoViewInit two_view = initialize_two_view(camera_, px0, px1, config_.geometry.two_view, &directions);
@@ -149,18 +138,19 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   }
 
   // World = the reference camera's frame at the current segment start pose.
-  const geometry::Pose T_world_ref = restart_pose(ref.frame_index, ref.timestamp);
-  const geometry::Pose T_world_cur = T_world_ref * two_view.T_cam1_cam0.inverse();
-  std::vector<std::optional<Eigen::Vector3d>> ref_points(ref.features.size());
+  MonoStart start;
+  start.T_world_ref = restart_pose(ref.frame_index, ref.timestamp);
+  start.T_world_cur = start.T_world_ref * two_view.T_cam1_cam0.inverse();
+  start.points.resize(ref.features.size());
   std::vector<cv::Point2f> second_px(ref.features.size(), cv::Point2f(NAN, NAN));
   KeyframeJob second = make_keyframe_job(frame, left, cv::Mat(), pyramid, KeyframeReason::kInitialization);
-  second.T_world_cam = T_world_cur;
+  second.T_world_cam = start.T_world_cur;
   int made = 0;
   for (size_t k = 0, j = 0; k < which.size(); ++k) {
     const int i = which[k];
     if (!tr.ok[k]) continue;
     second_px[i] = tr.points[k];
-    if (two_view.points_cam0[j]) ref_points[i] = T_world_ref * *two_view.points_cam0[j], ++made;
+    if (two_view.points_cam0[j]) start.points[i] = start.T_world_ref * *two_view.points_cam0[j], ++made;
     ++j;
   }
   if (made < config_.init.min_points) {
@@ -171,37 +161,32 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   reference.frame_index = ref.frame_index;
   reference.timestamp = ref.timestamp;
   reference.left = ref.image;
-  reference.T_world_cam = T_world_ref;
-  const KeyframeResult result = processor_.initialize_mono(reference, ref.features, ref_points, second, second_px);
-  if (!result.ok) {
-    mono_.reset();
-    return false;
-  }
-  localize_init_frames(ref, ref_points, T_world_ref);
-  mono_.reset();
-  T_world_work_ = T_world_cur;
-  start_tracking(result, frame.timestamp);
+  reference.T_world_cam = start.T_world_ref;
   const std::string held = config_.geometry.two_view.vanishing_sigma_deg > 0
                                ? fmt::format(", rotation held by {} of {}/{} directions", two_view.vanishing_pairs,
                                              directions.cam0.size(), directions.cam1.size())
                                : std::string();
-  spdlog::info("monocular initialisation ({}) between frames {} and {}: {} points, median parallax {:.2f} deg, "
-               "direction sigma {:.1f} deg{}",
-               two_view.model, reference.frame_index, frame.index, made, two_view.median_parallax_deg,
-               two_view.direction_sigma_deg, held);
-  return true;
+  start.summary = fmt::format("monocular initialisation ({}) between frames {} and {}: {} points, median parallax "
+                              "{:.2f} deg, direction sigma {:.1f} deg{}",
+                              two_view.model, reference.frame_index, frame.index, made, two_view.median_parallax_deg,
+                              two_view.direction_sigma_deg, held);
+  const std::vector<std::optional<Eigen::Vector3d>> points = start.points;
+  two_view_start_ = std::move(start);
+  submit_two_view_start(reference, ref.features, points, second, second_px);
+  return apply_start_outcome(frame.index);
+}
+
+FrameRecord* Odometry::record_of(size_t frame_index) {
+  // Records of recent frames are the last ones.
+  for (auto it = records_.rbegin(); it != records_.rend(); ++it)
+    if (it->index == frame_index) return &*it;
+  return nullptr;
 }
 
 void Odometry::localize_init_frames(const MonoReference& ref,
                                     const std::vector<std::optional<Eigen::Vector3d>>& points,
                                     const geometry::Pose& T_world_ref) {
-  // Records of the frames since the reference are the last ones (the current frame's is not
-  // in yet); the reference frame itself is the first keyframe.
-  auto record_of = [&](size_t frame_index) -> FrameRecord* {
-    for (auto it = records_.rbegin(); it != records_.rend(); ++it)
-      if (it->index == frame_index) return &*it;
-    return nullptr;
-  };
+  // The reference frame itself is the first keyframe.
   if (FrameRecord* r = record_of(ref.frame_index)) {
     r->tracked = true;
     r->T_world_cam = to_output(T_world_ref);
@@ -256,6 +241,11 @@ void Odometry::reset() {
   frame_directions_.clear();
   reference_angles_ = {};
   mono_.reset();
+  two_view_start_.reset();
+  start_in_flight_ = false;
+  start_outcome_.reset();
+  spare_detection_.reset();
+  two_view_waiting_ = false;
   state_ = TrackingState::kUninitialized;
   gap_step_world_.reset();
   if (recent_positions_.size() >= 2) {
