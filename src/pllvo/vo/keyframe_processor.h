@@ -3,6 +3,7 @@
 // the map (KLT tracks, descriptor matches with the previous keyframe, and the recent keyframes'
 // points found by projection), new 3-D points
 // (stereo or two-view triangulation), and the sliding-window bundle adjustment.
+#include <atomic>
 #include <map>
 #include <memory>
 #include <optional>
@@ -184,7 +185,8 @@ class KeyframeProcessor {
   std::string frontend_name_;
   PointTracker klt_;  ///< the keyframe's own LK: stereo matching and origin alignment
   std::unique_ptr<LineMapper> line_mapper_;  ///< null when lines are off
-  int segment_ = 0;
+  /// Read by the tracking thread every frame while a monocular resume on the worker may set it.
+  std::atomic<int> segment_ = 0;
   int last_segment_ = 0;               ///< the highest segment number given out (a resumed one reuses its own)
   std::vector<Id> segment_keyframes_;  ///< keyframes of the current segment, oldest first
   int previous_segment_ = 0;           ///< the segment before the latest loss...
