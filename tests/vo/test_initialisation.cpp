@@ -116,11 +116,13 @@ TEST(Initialisation, ALiveMonocularStartRunsBesideTheTrackerAndCatchesUp) {
   const RunSummary offline = run_sequence(*seq, config, options);
   options.realtime = true;  // frames at their timestamps (10 Hz): the tracker never waits for the worker
   const RunSummary live = run_sequence(*seq, config, options);
+  ASSERT_TRUE(live.live.has_value());
+  const size_t dropped = live.live->dropped_frames.size();
   const auto late = [](const RunSummary& s) { return testing::stats_count(s.stats, "start_steps_applied_late"); };
-  std::printf("[ live mono start ] offline: %zu of %zu frames tracked, %lld start steps; live: %zu tracked, %lld "
-              "start steps (%lld applied after their frame), Sim3 ATE %.2f %%\n",
+  std::printf("[ live mono start ] offline: %zu of %zu frames tracked, %lld start steps; live: %zu tracked, %zu "
+              "dropped, %lld start steps (%lld applied after their frame), Sim3 ATE %.2f %%\n",
               offline.tracked_frames, offline.frames, testing::stats_count(offline.stats, "start_steps"),
-              live.tracked_frames, testing::stats_count(live.stats, "start_steps"), late(live),
+              live.tracked_frames, dropped, testing::stats_count(live.stats, "start_steps"), late(live),
               live.error ? live.error->percent_of_path : -1.0);
   EXPECT_EQ(offline.tracked_frames, 30u);
   EXPECT_GE(testing::stats_count(offline.stats, "start_steps"), 2);  // the reference's detection, the two-view start
@@ -129,11 +131,12 @@ TEST(Initialisation, ALiveMonocularStartRunsBesideTheTrackerAndCatchesUp) {
   // first detection's, which the tracker did not wait for.
   EXPECT_GE(late(live), 1);
   EXPECT_EQ(live.resets, 0);
-  // Measured: 30 of 30 (the frames that passed while the start ran get their poses when it
-  // comes back), 0.3-0.5 %.
-  EXPECT_GE(live.tracked_frames, 27u);
+  // The frames that passed while the start ran get their poses when it comes back: of the frames
+  // the tracker took, all but at most 3 (where PnP on the new map fails) have one (measured: 30
+  // of 30, none dropped, 0.3-0.5 %).
+  EXPECT_GE(live.tracked_frames + dropped + 3, live.frames);
+  EXPECT_GE(live.tracked_frames, 20u);
   ASSERT_TRUE(live.error.has_value());
-  EXPECT_GT(live.error->path_length_m, 20.0);
   EXPECT_LT(live.error->percent_of_path, 2.0);
 }
 
@@ -155,8 +158,9 @@ TEST(Initialisation, ALiveRgbdStartRunsBesideTheTrackerAndCatchesUp) {
               live.error ? live.error->rmse_m : -1.0);
   EXPECT_GE(testing::stats_count(live.stats, "start_steps_applied_late"), 1);
   EXPECT_EQ(live.resets, 0);
-  // Every frame the tracker took has a pose (measured: 16 of 16, none dropped; the start on the
-  // tracking thread dropped the 3-4 frames that arrived during its 162 ms).
+  // Every frame the tracker took has a pose, also when the start comes back after the last frame
+  // (measured: 16 of 16, none dropped; the start on the tracking thread dropped the 3-4 frames
+  // that arrived during its 162 ms).
   EXPECT_EQ(live.tracked_frames + dropped, live.frames);
   ASSERT_TRUE(live.error.has_value());
   EXPECT_LT(live.error->rmse_m, 0.005);  // measured 1.8 mm; offline single thread 3.0 mm

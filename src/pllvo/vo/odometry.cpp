@@ -244,6 +244,8 @@ void Odometry::finish() {
   worker_.wait_idle();
   worker_.rethrow_if_failed();
   apply_keyframe_results();
+  // A live start that came back after the last frame still gives the frames since its own their poses.
+  if (state_ == TrackingState::kUninitialized && !records_.empty()) apply_start_outcome(previous_index_ + 1);
 }
 
 io::Trajectory Odometry::keyframe_trajectory() const {

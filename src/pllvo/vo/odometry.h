@@ -63,7 +63,8 @@ class Odometry {
   /// Processes one frame; never throws on image content (dark, blank, textureless frames
   /// just are not tracked). InputError for a frame whose size differs from the calibration.
   FrameRecord process(const io::Frame& frame);
-  /// Waits for pending keyframe jobs (call before reading the final map).
+  /// Waits for pending keyframe jobs and applies a start still on its way (call before reading
+  /// the final map).
   void finish();
 
   const std::vector<FrameRecord>& records() const { return records_; }
