@@ -102,14 +102,20 @@ TEST(Initialisation, StereoStartsOnTheFirstFrameAtMetricScale) {
   EXPECT_LT(s.error->percent_of_path, 4.3);
 }
 
+/// The default pipeline on its threads, as `pllvo run` runs it.
+VoConfig default_threaded() {
+  VoConfig config = testing::default_single_thread();
+  config.run.threaded = true;
+  return config;
+}
+
 // A live monocular start runs its network steps (detection, the two-view start's keyframes) on
 // the keyframe worker: the tracker takes the next frames meanwhile, and the map that comes back
 // after its frame is brought up to the latest one through the frames' buffered pyramids. Offline
 // input waits for each step, so that it applies at its own frame, as on one thread.
 TEST(Initialisation, ALiveMonocularStartRunsBesideTheTrackerAndCatchesUp) {
   const auto seq = io::open_sequence(shared_path("data/kitti_04_mono51"));
-  VoConfig config = testing::default_single_thread();
-  config.run.threaded = true;
+  const VoConfig config = default_threaded();
   RunOptions options;
   options.max_frames = 30;
   options.stereo = false;
@@ -144,8 +150,7 @@ TEST(Initialisation, ALiveMonocularStartRunsBesideTheTrackerAndCatchesUp) {
 // keyframe is made are tracked, not dropped, and get their poses when it comes back.
 TEST(Initialisation, ALiveRgbdStartRunsBesideTheTrackerAndCatchesUp) {
   const auto seq = io::open_sequence(shared_path("data/tum_fr3_office_snippet"));
-  VoConfig config = testing::default_single_thread();
-  config.run.threaded = true;
+  const VoConfig config = default_threaded();
   RunOptions options;
   options.realtime = true;
   const RunSummary live = run_sequence(*seq, config, options);

@@ -145,6 +145,9 @@ class Odometry {
   /// The buffered pyramids from frame `first` to the latest processed frame (empty when the
   /// buffer does not reach back to `first`).
   std::vector<std::pair<size_t, ImagePyramid>> buffered_since(size_t first) const;
+  /// `job`'s pyramid and the buffered ones of the frames after it: what a keyframe's or a
+  /// start's new tracks are followed through on the worker.
+  std::vector<std::pair<size_t, ImagePyramid>> frames_from(const KeyframeJob& job) const;
   /// track(); when the pose fails, handle_lost() and (stereo, pose.stereo_restart_at_once) a
   /// new map on this frame when it relocalises in the old one; it then counts as tracked.
   bool track_or_restart(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,

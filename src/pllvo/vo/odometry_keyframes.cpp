@@ -98,6 +98,20 @@ void Odometry::follow(const std::vector<std::pair<size_t, ImagePyramid>>& frames
   }
 }
 
+std::vector<std::pair<size_t, ImagePyramid>> Odometry::buffered_since(size_t first) const {
+  std::vector<std::pair<size_t, ImagePyramid>> frames;
+  for (auto& f : pyramid_buffer_.from(first))
+    if (f.first <= previous_index_) frames.push_back(std::move(f));
+  if (frames.empty() || frames.front().first != first) return {};
+  return frames;
+}
+
+std::vector<std::pair<size_t, ImagePyramid>> Odometry::frames_from(const KeyframeJob& job) const {
+  std::vector<std::pair<size_t, ImagePyramid>> frames = {{job.frame_index, job.left_pyramid}};
+  for (auto& f : pyramid_buffer_.from(job.frame_index + 1)) frames.push_back(std::move(f));
+  return frames;
+}
+
 void Odometry::prepare_result(const KeyframeJob& job, KeyframeResult& result) const {
   auto point_id = [](const TrackedPoint& p) { return p.point; };
   auto line_id = [](const TrackedLine& l) { return l.line; };
@@ -107,8 +121,7 @@ void Odometry::prepare_result(const KeyframeJob& job, KeyframeResult& result) co
     if (!find_identity(point_index, r, point_id)) result.new_tracks.push_back(r);
   for (const auto& r : result.lines)
     if (!find_identity(line_index, r, line_id)) result.new_lines.push_back(r);
-  std::vector<std::pair<size_t, ImagePyramid>> frames = {{job.frame_index, job.left_pyramid}};
-  for (auto& f : pyramid_buffer_.from(job.frame_index + 1)) frames.push_back(std::move(f));
+  const auto frames = frames_from(job);
   follow(frames, result.new_tracks, result.new_lines);
   result.followed_frame = frames.back().first;
 }
@@ -152,10 +165,8 @@ void Odometry::apply_keyframe_results() {
     std::vector<TrackedPoint> new_points = result.new_tracks;
     std::vector<TrackedLine> new_lines = result.new_lines;
     if (result.followed_frame < previous_index_) {
-      std::vector<std::pair<size_t, ImagePyramid>> frames;
-      for (auto& f : pyramid_buffer_.from(result.followed_frame))
-        if (f.first <= previous_index_) frames.push_back(std::move(f));
-      if (frames.empty() || frames.front().first != result.followed_frame) {
+      const auto frames = buffered_since(result.followed_frame);
+      if (frames.empty()) {
         new_points.clear();  // its pyramid is gone: cannot be brought up to date
         new_lines.clear();
       } else {

@@ -33,6 +33,15 @@ std::optional<geometry::Pose> pose_of_tracks(const Pinhole& camera, const Map& m
   return e.T_world_cam;
 }
 
+/// An outcome of a step on `job`'s frame.
+StartOutcome outcome_at(const KeyframeJob& job) {
+  StartOutcome outcome;
+  outcome.frame_index = job.frame_index;
+  outcome.timestamp = job.timestamp;
+  outcome.image = job.left;
+  return outcome;
+}
+
 }  // namespace
 
 void Odometry::submit_start(size_t frame_index, std::function<StartOutcome()> step) {
@@ -53,8 +62,7 @@ void Odometry::catch_up_on_worker(const KeyframeJob& job, StartOutcome& outcome)
   KeyframeResult& result = outcome.result;
   result.new_tracks = result.tracks;
   result.new_lines = result.lines;
-  std::vector<std::pair<size_t, ImagePyramid>> frames = {{job.frame_index, job.left_pyramid}};
-  for (auto& f : pyramid_buffer_.from(job.frame_index + 1)) frames.push_back(std::move(f));
+  const auto frames = frames_from(job);
   follow_and_locate(frames, result.new_tracks, result.new_lines, outcome.poses);
   result.followed_frame = frames.back().first;
 }
@@ -65,10 +73,7 @@ void Odometry::submit_start_detection(const io::Frame& frame, const cv::Mat& lef
   auto job = std::make_shared<const KeyframeJob>(
       make_keyframe_job(frame, left, cv::Mat(), pyramid, KeyframeReason::kRelocalisation));
   submit_start(frame.index, [this, job, resume] {
-    StartOutcome outcome;
-    outcome.frame_index = job->frame_index;
-    outcome.timestamp = job->timestamp;
-    outcome.image = job->left;
+    StartOutcome outcome = outcome_at(*job);
     PointFeatures features = processor_.detect(job->left);
     if (resume) {
       outcome.result = processor_.resume_segment(*job, features);
@@ -77,10 +82,8 @@ void Odometry::submit_start_detection(const io::Frame& frame, const cv::Mat& lef
         return outcome;
       }
     }
-    std::vector<std::pair<size_t, ImagePyramid>> frames = {{job->frame_index, job->left_pyramid}};
-    for (auto& f : pyramid_buffer_.from(job->frame_index + 1)) frames.push_back(std::move(f));
     std::vector<cv::Point2f> positions = features.points;
-    follow_positions(frames, positions, outcome.followed);
+    follow_positions(frames_from(*job), positions, outcome.followed);
     outcome.features = std::move(features);
     return outcome;
   });
@@ -89,10 +92,7 @@ void Odometry::submit_start_detection(const io::Frame& frame, const cv::Mat& lef
 void Odometry::submit_metric_start(const KeyframeJob& job) {
   auto first = std::make_shared<const KeyframeJob>(job);
   submit_start(job.frame_index, [this, first] {
-    StartOutcome outcome;
-    outcome.frame_index = first->frame_index;
-    outcome.timestamp = first->timestamp;
-    outcome.image = first->left;
+    StartOutcome outcome = outcome_at(*first);
     outcome.result = processor_.process(*first);
     if (outcome.result.ok) catch_up_on_worker(*first, outcome);
     return outcome;
@@ -108,10 +108,7 @@ void Odometry::submit_two_view_start(const KeyframeJob& reference, const PointFe
   auto next = std::make_shared<const KeyframeJob>(second);
   auto next_px = std::make_shared<const std::vector<cv::Point2f>>(second_px);
   submit_start(second.frame_index, [this, ref, ref_features, ref_points, next, next_px] {
-    StartOutcome outcome;
-    outcome.frame_index = next->frame_index;
-    outcome.timestamp = next->timestamp;
-    outcome.image = next->left;
+    StartOutcome outcome = outcome_at(*next);
     outcome.result = processor_.initialize_mono(*ref, *ref_features, *ref_points, *next, *next_px);
     if (outcome.result.ok) catch_up_on_worker(*next, outcome);
     return outcome;
@@ -240,12 +237,6 @@ void Odometry::follow_positions(const std::vector<std::pair<size_t, ImagePyramid
       positions[which[j]] = tr.ok[j] ? tr.points[j] : cv::Point2f(NAN, NAN);
     history.emplace_back(frames[k].first, positions);
   }
-}
-
-std::vector<std::pair<size_t, ImagePyramid>> Odometry::buffered_since(size_t first) const {
-  std::vector<std::pair<size_t, ImagePyramid>> frames = pyramid_buffer_.from(first);
-  if (frames.empty() || frames.front().first != first) return {};
-  return frames;
 }
 
 }  // namespace pllvo::vo
