@@ -30,6 +30,9 @@ struct TrackedPoint {
   Id point = kNoId;
   Observation origin;  ///< candidates: keyframe and feature where the track began
   Observation last;    ///< the latest keyframe observation of the track
+  /// Candidates, live input only (pose.provisional_points): world position triangulated by the
+  /// tracker from the track's keyframe views and its latest tracked frame; not in the map.
+  std::optional<Eigen::Vector3d> provisional;
 };
 
 struct KeyframeJob {

@@ -198,6 +198,12 @@ class Odometry {
                                        const std::vector<TrackedLine>& lines, bool plain,
                                        const std::vector<lines::LineSegment>* predicted = nullptr,
                                        const std::vector<lines::LineSegment>* detected = nullptr) const;
+  /// pose.provisional_points: live input, and the frame follows fewer map points than
+  /// run.starving_points: its candidates' provisional positions join the pose.
+  bool uses_provisional_points() const;
+  /// Gives every candidate track its provisional position from its keyframe views and the
+  /// latest pose (nullopt where the triangulation's checks fail).
+  void triangulate_candidates();
   /// Whether this frame follows fewer map points than plain_scene.max_tracked_points.
   bool plain_frame() const;
   void set_reference_lines(const std::vector<TrackedLine>& lines);

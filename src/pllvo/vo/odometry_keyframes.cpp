@@ -150,7 +150,8 @@ void Odometry::apply_keyframe_results() {
       const auto i = find_identity(point_index, r, point_id);
       if (!i || point_taken[*i]) continue;
       point_taken[*i] = 1;
-      merged.push_back({tracks_[*i].px, r.point, r.origin, r.last});
+      merged.push_back({tracks_[*i].px, r.point, r.origin, r.last,
+                        r.point == kNoId ? tracks_[*i].provisional : std::nullopt});
     }
     std::vector<TrackedLine> merged_lines;
     std::vector<char> line_taken(line_tracks_.size(), 0);

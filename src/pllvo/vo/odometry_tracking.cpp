@@ -122,6 +122,11 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
       positions[i] = it->second.position, known[i] = 1;
     }
   });
+  // known == 2: a candidate at its provisional position (pose.provisional_points).
+  if (uses_provisional_points())
+    for (size_t i = 0; i < tracks_.size(); ++i)
+      if (!known[i] && tracks_[i].point == kNoId && tracks_[i].provisional)
+        positions[i] = *tracks_[i].provisional, known[i] = 2;
   std::vector<cv::Point2f> from, predicted;
   for (size_t i = 0; i < tracks_.size(); ++i) {
     from.push_back(tracks_[i].px);
@@ -233,12 +238,18 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   }
 
   // Keep the tracks that survived KLT (and, on success, the pose's inlier test); candidates
-  // (no map point yet) only need KLT.
+  // (no map point yet) only need KLT: one at a provisional position that the pose refuses
+  // stays a candidate without it.
   std::vector<TrackedPoint> kept;
+  int map_inliers = 0, provisional_inliers = 0;
   for (size_t k = 0; k < which.size(); ++k) {
-    if (estimate.ok && !estimate.point_inliers[k]) continue;
+    const bool provisional = known[which[k]] == 2;
+    const bool inlier = !estimate.ok || estimate.point_inliers[k];
+    if (!inlier && !provisional) continue;
     TrackedPoint tp = tracks_[which[k]];
     tp.px = tr.points[which[k]];
+    if (!inlier) tp.provisional.reset();
+    if (estimate.ok && inlier) ++(provisional ? provisional_inliers : map_inliers);
     kept.push_back(tp);
   }
   for (size_t i = 0; i < tracks_.size(); ++i) {
@@ -286,11 +297,44 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   T_world_work_ = T_world_cur;
   lost_frames_ = 0;
   remember_position(frame.index, T_world_cur.translation());
-  record.tracked_points = estimate.num_point_inliers;
+  // The map's own points: provisional ones do not stand in for a keyframe's.
+  record.tracked_points = map_inliers;
   record.tracked_lines = estimate.num_line_inliers;
+  if (provisional_inliers > 0) {
+    stats_.add_count("provisional_point_frames");
+    stats_.add_sample("provisional_point_inliers", provisional_inliers);
+  }
+  if (!config_.run.wait_when_starving && config_.pose.provisional_points) triangulate_candidates();
 
-  maybe_make_keyframe(frame, left, right, pyramid, estimate.num_point_inliers);
+  maybe_make_keyframe(frame, left, right, pyramid, map_inliers);
   return true;
+}
+
+bool Odometry::uses_provisional_points() const {
+  // The plain starving threshold, not the noisy frames' (a monocular map waits for every
+  // keyframe there): with enough map points, provisional ones only add their depth's doubt.
+  return config_.pose.provisional_points && !config_.run.wait_when_starving &&
+         count_mapped(tracks_) < config_.run.starving_points;
+}
+
+void Odometry::triangulate_candidates() {
+  ScopedTimer t(stats_, "provisional_points");
+  map_.read([&](const MapData& m) {
+    for (auto& tp : tracks_) {
+      if (tp.point != kNoId || tp.origin.keyframe == kNoId) continue;
+      tp.provisional.reset();
+      std::vector<geometry::Pose> poses;
+      std::vector<Eigen::Vector2d> pixels;
+      for (const Observation& o : {tp.origin, tp.last}) {
+        if (o.keyframe == kNoId || (!poses.empty() && o.keyframe == tp.origin.keyframe)) continue;
+        if (const auto view = m.feature_view(o)) poses.push_back(view->T_world_cam), pixels.push_back(view->px);
+      }
+      if (poses.empty()) continue;
+      poses.push_back(T_world_work_);
+      pixels.push_back(to_eigen(tp.px));
+      tp.provisional = triangulate_point(camera_, poses, pixels, config_.geometry.point_triangulation);
+    }
+  });
 }
 
 PoseEstimate Odometry::pose_from_frame_motion(size_t frame_index, const std::vector<cv::Point2f>& from,

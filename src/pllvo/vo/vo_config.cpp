@@ -84,6 +84,7 @@ void read_pose(const ConfigNode& n, PoseConfig& c) {
   n.get("lost_frames_before_reset", c.lost_frames_before_reset);
   n.get("stereo_restart_at_once", c.stereo_restart_at_once);
   n.get("merge_gate_px", c.merge_gate_px);
+  n.get("provisional_points", c.provisional_points);
   n.get("follow_keyframe_adjustment", c.follow_keyframe_adjustment);
   n.get("min_inliers_with_prior", c.min_inliers_with_prior);
   n.get("stereo_pnp_min_inliers", c.stereo_pnp_min_inliers);

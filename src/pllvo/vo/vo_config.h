@@ -181,6 +181,15 @@ struct PoseConfig {
   /// 31-34 that way at starts 2 and 3; it fires about once a run (docs/vo.md). Needs
   /// the gate (merge_gate_px > 0).
   bool follow_keyframe_adjustment = true;
+  /// Live input only (run.wait_when_starving off): a frame that follows fewer map points than
+  /// run.starving_points (its mode's; not the noisy frames' higher count, where provisional
+  /// points only added their depth's doubt) takes candidates into its pose too, each at a
+  /// provisional position that the tracker triangulates after every tracked frame from the
+  /// candidate's keyframe views and that frame (geometry.point_triangulation's checks). Offline a
+  /// starving tracker waits for the keyframe in flight, which brings those points into the map;
+  /// live it cannot, and a monocular map ran out of points between keyframes. Provisional points
+  /// never enter the map, nor the keyframe rule's point count.
+  bool provisional_points = true;
   /// When PnP / the refinement fail for want of points, a pose is still accepted from the
   /// motion prior plus at least this many agreeing observations (points + lines); 0: off.
   int min_inliers_with_prior = 5;
