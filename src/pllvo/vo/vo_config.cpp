@@ -112,6 +112,7 @@ void read_mapping(const ConfigNode& n, MappingConfig& c) {
   n.get("orb_ratio", c.orb_ratio);
   n.get("orb_max_hamming", c.orb_max_hamming);
   n.get("max_anchor_keyframes", c.max_anchor_keyframes);
+  n.get("stereo_max_anchor_keyframes", c.stereo_max_anchor_keyframes);
   n.get("mono_line_min_plane_angle_deg", c.mono_line_min_plane_angle_deg);
   n.get("mono_ba_line_weight", c.mono_ba_line_weight);
   n.get("mono_align_to_origin", c.mono_align_to_origin);
@@ -199,6 +200,7 @@ VoConfig VoConfig::for_mode(bool stereo) const {
   if (stereo) {
     c.geometry.pnp.min_inliers = pose.stereo_pnp_min_inliers;
     c.pose.min_inliers_with_prior = pose.stereo_min_inliers_with_prior;
+    c.mapping.max_anchor_keyframes = mapping.stereo_max_anchor_keyframes;
   } else {
     auto& angle = c.geometry.line_triangulation.min_plane_angle_deg;
     angle = std::max(angle, mapping.mono_line_min_plane_angle_deg);
@@ -329,6 +331,8 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(plain_scene.mono_max_keyframe_features >= 0, file, "plain_scene.mono_max_keyframe_features",
           "must be >= 0 (0: off)");
   require(mapping.max_anchor_keyframes >= 0, file, "mapping.max_anchor_keyframes", "must not be negative");
+  require(mapping.stereo_max_anchor_keyframes >= 0, file, "mapping.stereo_max_anchor_keyframes",
+          "must not be negative");
   require(mapping.mono_line_min_plane_angle_deg >= 0 && mapping.mono_line_min_plane_angle_deg < 90, file,
           "mapping.mono_line_min_plane_angle_deg", "must be in [0, 90)");
   require(mapping.mono_ba_line_weight >= 0, file, "mapping.mono_ba_line_weight", "must not be negative");
