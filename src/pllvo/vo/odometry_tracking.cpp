@@ -88,9 +88,10 @@ bool Odometry::track_or_restart(const io::Frame& frame, const cv::Mat& left, con
     // so the map is only given up for a restart that this frame places in it. The start
     // below reuses the features detected for the try.
     if (config_.pose.relocalise_min_inliers <= 0) return false;
-    // Live input (run.wait_when_starving off) never waits: the try is made on a later frame
-    // that finds the worker idle.
-    if (!config_.run.wait_when_starving && !worker_.idle()) return false;
+    // Live input (run.wait_when_starving off) makes no try: its detection and matching would
+    // hold the tracking thread for 200-500 ms (the frames arriving meanwhile dropped), and the
+    // new map's first keyframe, on the worker, is relocalised in this one all the same.
+    if (!config_.run.wait_when_starving) return false;
     worker_.wait_idle();
     worker_.rethrow_if_failed();
     const KeyframeJob job = make_keyframe_job(frame, left, right, pyramid, KeyframeReason::kNone);
