@@ -167,7 +167,8 @@ struct PoseConfig {
   /// tracks left (lost_frames_before_reset), which sometimes gets the pose back in the same map.
   /// On easy_flicker a flicker step lost frames 154-156 in 2 of 10 threaded runs, and frame 157
   /// relocalised at once (docs/vo.md). Counted in stats.json as
-  /// `restarts_relocalised_at_once`.
+  /// `restarts_relocalised_at_once`. Offline input only: live, the try held the tracking thread
+  /// 200-500 ms (stereo difficult_lowlight dropped 14-25 of 201 frames after its losses).
   bool stereo_restart_at_once = true;
   /// When a keyframe's points join the tracker, those whose map point projects farther than
   /// this (pixels) from the track at the latest pose are dropped (0: off). Late keyframes
