@@ -377,16 +377,9 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
   if (align) align_to_origins(job, features, ids, origins, previous);
 
   // Map points and the earlier views of candidates, read once.
-  struct Views {
-    std::vector<geometry::Pose> T_world_cam;
-    std::vector<Eigen::Vector2d> px;
-  };
   std::vector<Eigen::Vector3d> positions(n);
-  std::vector<Views> views(n);
+  std::vector<TrackViews> views(n);
   map_.read([&](const MapData& m) {
-    auto add_view = [&](Views& v, const Observation& o) {
-      if (const auto view = m.feature_view(o)) v.T_world_cam.push_back(view->T_world_cam), v.px.push_back(view->px);
-    };
     for (size_t i = 0; i < n; ++i) {
       if (ids[i] != kNoId) {
         auto it = m.points.find(ids[i]);
@@ -395,8 +388,8 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
         else
           positions[i] = it->second.position;
       } else if (origins[i].keyframe != kNoId) {
-        add_view(views[i], origins[i]);
-        if (previous[i].keyframe != kNoId) add_view(views[i], previous[i]);
+        views[i].add(m, origins[i]);
+        if (previous[i].keyframe != kNoId) views[i].add(m, previous[i]);
       }
     }
   });
@@ -419,9 +412,8 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
     ScopedTimer t(stats_, "kf_triangulate");
     for (size_t i = 0; i < n; ++i) {
       if (ids[i] != kNoId || stereo[i] || views[i].px.empty()) continue;
-      Views v = views[i];
-      v.T_world_cam.push_back(job.T_world_cam);
-      v.px.push_back(to_eigen(features.points[i]));
+      TrackViews v = views[i];
+      v.add(job.T_world_cam, to_eigen(features.points[i]));
       triangulated[i] = triangulate_point(camera_, v.T_world_cam, v.px, config_.geometry.point_triangulation);
     }
   }

@@ -32,7 +32,7 @@ struct TrackedPoint {
   Observation last;    ///< the latest keyframe observation of the track
   /// Candidates, live input only (pose.provisional_points): world position triangulated by the
   /// tracker from the track's keyframe views and its latest tracked frame; not in the map.
-  std::optional<Eigen::Vector3d> provisional;
+  std::optional<Eigen::Vector3d> provisional = std::nullopt;
 };
 
 struct KeyframeJob {

@@ -14,6 +14,10 @@ std::optional<FeatureView> MapData::feature_view(const Observation& o) const {
   return FeatureView{kf->second.T_world_cam, Eigen::Vector2d(p.x, p.y)};
 }
 
+void TrackViews::add(const MapData& m, const Observation& o) {
+  if (const auto view = m.feature_view(o)) add(view->T_world_cam, view->px);
+}
+
 Id MapData::add_keyframe(Keyframe kf) {
   kf.id = next_id++;
   kf.point_ids.resize(kf.features.size(), kNoId);

@@ -71,6 +71,17 @@ struct MapLine {
   std::vector<Observation> observations;
 };
 
+struct MapData;
+
+/// The views of one feature track with their poses, in step: what triangulate_point takes.
+struct TrackViews {
+  std::vector<geometry::Pose> T_world_cam;
+  std::vector<Eigen::Vector2d> px;
+  void add(const geometry::Pose& T, const Eigen::Vector2d& p) { T_world_cam.push_back(T), px.push_back(p); }
+  /// Observation `o`'s keyframe view; nothing when that keyframe is gone.
+  void add(const MapData& m, const Observation& o);
+};
+
 /// Plain data of the map; ids increase in creation order, so std::map keeps that order.
 struct MapData {
   std::map<Id, Keyframe> keyframes;

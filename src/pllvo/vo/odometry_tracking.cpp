@@ -320,22 +320,23 @@ bool Odometry::uses_provisional_points() const {
 
 void Odometry::triangulate_candidates() {
   ScopedTimer t(stats_, "provisional_points");
+  // The keyframe views under the map's lock, the triangulation after it (the worker writes the map).
+  std::vector<TrackViews> views(tracks_.size());
   map_.read([&](const MapData& m) {
-    for (auto& tp : tracks_) {
+    for (size_t i = 0; i < tracks_.size(); ++i) {
+      const TrackedPoint& tp = tracks_[i];
       if (tp.point != kNoId || tp.origin.keyframe == kNoId) continue;
-      tp.provisional.reset();
-      std::vector<geometry::Pose> poses;
-      std::vector<Eigen::Vector2d> pixels;
-      for (const Observation& o : {tp.origin, tp.last}) {
-        if (o.keyframe == kNoId || (!poses.empty() && o.keyframe == tp.origin.keyframe)) continue;
-        if (const auto view = m.feature_view(o)) poses.push_back(view->T_world_cam), pixels.push_back(view->px);
-      }
-      if (poses.empty()) continue;
-      poses.push_back(T_world_work_);
-      pixels.push_back(to_eigen(tp.px));
-      tp.provisional = triangulate_point(camera_, poses, pixels, config_.geometry.point_triangulation);
+      views[i].add(m, tp.origin);
+      if (tp.last.keyframe != tp.origin.keyframe) views[i].add(m, tp.last);
     }
   });
+  for (size_t i = 0; i < tracks_.size(); ++i) {
+    TrackedPoint& tp = tracks_[i];
+    tp.provisional.reset();
+    if (views[i].px.empty()) continue;
+    views[i].add(T_world_work_, to_eigen(tp.px));
+    tp.provisional = triangulate_point(camera_, views[i].T_world_cam, views[i].px, config_.geometry.point_triangulation);
+  }
 }
 
 PoseEstimate Odometry::pose_from_frame_motion(size_t frame_index, const std::vector<cv::Point2f>& from,
