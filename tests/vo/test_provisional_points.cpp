@@ -1,6 +1,7 @@
 // Provisional points (pose.provisional_points): a tracker that cannot wait for the keyframe in
 // flight (live input) poses a starving frame on its candidates too, triangulated from their
-// keyframe views and the latest tracked frame. Checked deterministically in the single thread
+// keyframe views and the latest tracked frame, and on corners it finds itself between
+// keyframes (pose.frame_corners, monocular). Checked deterministically in the single thread
 // with keyframes that come as late as a busy worker's would (only every 0.75 s, no point or
 // line rule), on a dark, noisy synthetic flight (medium_lowlight at 376 x 240) against its
 // ground truth; and offline input, which waits, never uses them.
@@ -14,14 +15,15 @@ namespace {
 
 /// Keyframes only by time, 0.75 s apart, and a tracker that never waits: a monocular map runs
 /// short of points between keyframes as it does at live rate on a slow machine.
-VoConfig late_keyframes(bool provisional) {
+VoConfig late_keyframes(bool provisional, int frame_corners = 0, double interval_s = 0.75) {
   VoConfig c = testing::deterministic();
   c.keyframes.use_point_trigger = false;
   c.keyframes.use_line_trigger = false;
-  c.keyframes.max_interval_s = 0.75;
-  c.keyframes.min_interval_s = 0.75;
+  c.keyframes.max_interval_s = interval_s;
+  c.keyframes.min_interval_s = interval_s;
   c.run.wait_when_starving = false;
   c.pose.provisional_points = provisional;
+  c.pose.frame_corners = frame_corners;
   return c;
 }
 
@@ -57,8 +59,28 @@ TEST(ProvisionalPoints, HoldAMonocularMapWhoseKeyframesComeLate) {
   EXPECT_LT(with.error->percent_of_path, 0.9 * without.error->percent_of_path);
 }
 
+TEST(FrameCorners, KeepAMonocularMapWhoseCandidatesRunOut) {
+  // Keyframes a second apart: the candidates of one keyframe are gone before the next.
+  const RunSummary with = run_mono(late_keyframes(true, 100, 1.0));
+  const RunSummary without = run_mono(late_keyframes(true, 0, 1.0));
+  print("corners", with);
+  print("no corners", without);
+  std::printf("[ frame corners ] %lld found, %lld frames posed with them\n",
+              testing::stats_count(with.stats, "frame_corners_found"),
+              with.stats["per_frame"].value("frame_corner_inliers", nlohmann::json::object()).value("count", 0LL));
+  EXPECT_EQ(testing::stats_count(without.stats, "frame_corners_found"), 0);
+  ASSERT_TRUE(with.error.has_value());
+  ASSERT_TRUE(without.error.has_value());
+  // Measured (ORB, this half-resolution flight): with them 121 of 121 frames tracked, no reset,
+  // 80 frames posed with corners, 2.87 %; without 118 of 121, one reset, 5.43 %.
+  EXPECT_GT(testing::stats_count(with.stats, "frame_corners_found"), 100);
+  EXPECT_GE(with.tracked_frames, without.tracked_frames);
+  EXPECT_LE(with.resets, without.resets);
+  EXPECT_LT(with.error->percent_of_path, 0.75 * without.error->percent_of_path);
+}
+
 TEST(ProvisionalPoints, OfflineInputWaitsAndNeverUsesThem) {
-  VoConfig config = late_keyframes(true);
+  VoConfig config = late_keyframes(true, 100);
   config.run.wait_when_starving = true;
   const RunSummary offline = run_mono(config);
   config.pose.provisional_points = false;

@@ -16,6 +16,7 @@
 #include "pllvo/io/sequence.h"
 #include "pllvo/vo/direction_map.h"
 #include "pllvo/vo/frame_rectifier.h"
+#include "pllvo/vo/frame_corners.h"
 #include "pllvo/vo/keyframe_policy.h"
 #include "pllvo/vo/keyframe_processor.h"
 #include "pllvo/vo/keyframe_worker.h"
@@ -204,11 +205,22 @@ class Odometry {
   /// Gives every candidate track its provisional position from its keyframe views and the
   /// latest pose (nullopt where the triangulation's checks fail).
   void triangulate_candidates();
+  /// Follows the tracker's own corners (pose.frame_corners) into `pyramid`, predicted at
+  /// `T_pred_world` where they have a position; those KLT loses are dropped.
+  void follow_corners(const ImagePyramid& pyramid, const geometry::Pose& T_pred_world);
+  /// After a tracked frame: every corner triangulated from its first view and this pose, and,
+  /// when the frame follows fewer than `starving` map points, new corners found in `image`.
+  void refresh_corners(const cv::Mat& image, int map_inliers);
+  bool uses_frame_corners() const;
   /// Whether this frame follows fewer map points than plain_scene.max_tracked_points.
   bool plain_frame() const;
   void set_reference_lines(const std::vector<TrackedLine>& lines);
   std::optional<double> line_angle_distance() const;
-  void handle_lost();
+  /// Counts a failed frame at `timestamp`; resets after pose.lost_frames_before_reset, unless
+  /// the map is held for a keyframe in flight (pose.hold_map_for_keyframe_s).
+  void handle_lost(double timestamp);
+  /// Whether the map is held past pose.lost_frames_before_reset for a keyframe in flight.
+  bool holding_map() const { return lost_frames_ >= config_.pose.lost_frames_before_reset; }
   void reset();
   /// Where a map started at `frame_index` (time `timestamp`) after a reset begins, unless it
   /// relocalises: the last tracked pose, its position carried on by the mean step of the frames
@@ -264,6 +276,7 @@ class Odometry {
   TrackingState state_ = TrackingState::kUninitialized;
   std::vector<TrackedPoint> tracks_;
   std::vector<TrackedLine> line_tracks_;
+  std::vector<FrameCorner> corners_;  ///< pose.frame_corners: live input only
   lines::OverlapAngleSet reference_angles_;  ///< of the current keyframe's lines
   ImagePyramid previous_pyramid_;
   cv::Mat previous_image_;  ///< working left image of the latest frame (tracking_view)

@@ -208,7 +208,9 @@ void Odometry::drop_inconsistent_tracks(std::vector<TrackedPoint>& tracks, const
   // point triangulated from a wrong match) would split the next PnP into two consensus sets
   // and make the pose jump: they are dropped.
   const double gate = config_.pose.merge_gate_px;
-  if (gate <= 0) return;
+  // A map held for this keyframe (pose.hold_map_for_keyframe_s) has no pose of the frame its
+  // tracks are in: the next pose's RANSAC sorts them.
+  if (gate <= 0 || holding_map()) return;
   std::vector<int> slot(tracks.size(), -1);  // index in points / pixels, -1: no map point
   std::vector<Eigen::Vector3d> points;
   std::vector<Eigen::Vector2d> pixels;

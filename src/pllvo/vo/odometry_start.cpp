@@ -211,6 +211,7 @@ void Odometry::start_tracking(const KeyframeResult& result, double timestamp) {
   state_ = TrackingState::kTracking;
   tracks_ = result.tracks;
   line_tracks_ = result.lines;
+  corners_.clear();
   set_reference_lines(line_tracks_);
   has_velocity_ = false;
   velocity_ = geometry::Pose::Identity();
@@ -220,10 +221,20 @@ void Odometry::start_tracking(const KeyframeResult& result, double timestamp) {
 
 // ---------------------------------------------------------------- tracking
 
-void Odometry::handle_lost() {
+void Odometry::handle_lost(double timestamp) {
   ++lost_frames_;
   stats_.add_count("lost_frames_while_tracking");
-  if (lost_frames_ >= config_.pose.lost_frames_before_reset) reset();
+  if (lost_frames_ < config_.pose.lost_frames_before_reset) return;
+  // Live, the keyframe in flight would bring the points this map lacks (and reset() waits for
+  // it only to throw it away); offline the tracker waited for it before getting here. A metric
+  // map restarts on one frame: held, it tracked fewer frames live (docs/vo.md).
+  const double hold = config_.pose.hold_map_for_keyframe_s;
+  if (!config_.run.wait_when_starving && !metric() && hold > 0 && !pending_keyframe_frames_.empty() &&
+      timestamp - last_tracked_time_ <= hold) {
+    stats_.add_count("lost_frames_held_for_keyframe");
+    return;
+  }
+  reset();
 }
 
 void Odometry::reset() {
@@ -238,6 +249,7 @@ void Odometry::reset() {
   pyramid_buffer_.clear();
   tracks_.clear();
   line_tracks_.clear();
+  corners_.clear();
   frame_directions_.clear();
   reference_angles_ = {};
   mono_.reset();

@@ -80,7 +80,7 @@ void Odometry::retrack_on_local_contrast(const cv::Mat& left, const std::vector<
 bool Odometry::track_or_restart(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
                                 const ImagePyramid& pyramid, FrameRecord& record) {
   if (track(frame, left, right, pyramid, record)) return true;
-  handle_lost();
+  handle_lost(frame.timestamp);
   if (!config_.pose.stereo_restart_at_once || !metric()) return false;
   std::optional<DetectedKeyframe> detected;
   if (state_ == TrackingState::kTracking) {
@@ -132,7 +132,8 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   for (size_t i = 0; i < tracks_.size(); ++i) {
     from.push_back(tracks_[i].px);
     Eigen::Vector2d uv;
-    if (known[i] && camera_.project(T_pred_world * positions[i], uv) && camera_.inside(uv))
+    // A held map's last pose is frames old: the tracks' own positions are the better seed.
+    if (known[i] && !holding_map() && camera_.project(T_pred_world * positions[i], uv) && camera_.inside(uv))
       predicted.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
     else
       predicted.push_back(tracks_[i].px);
@@ -143,6 +144,7 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     tr = tracker_.track(previous_pyramid_, pyramid, from, &predicted);
     retrack_on_local_contrast(left, from, predicted, tr);
   }
+  follow_corners(pyramid, T_pred_world);
   stats_.add_count("klt_rejected.lk", tr.rejected.lk);
   stats_.add_count("klt_rejected.border", tr.rejected.border);
   stats_.add_count("klt_rejected.forward_backward", tr.rejected.forward_backward);
@@ -202,6 +204,16 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     pts.push_back(positions[i]);
     px.push_back(to_eigen(tr.points[i]));
   }
+  // The tracker's own corners join a starving frame as provisional points do.
+  const size_t first_corner = pts.size();
+  std::vector<size_t> corner_of;  // corners_ index of pts[first_corner + k]
+  if (uses_provisional_points())
+    for (size_t i = 0; i < corners_.size(); ++i)
+      if (corners_[i].position) {
+        corner_of.push_back(i);
+        pts.push_back(*corners_[i].position);
+        px.push_back(to_eigen(corners_[i].px));
+      }
 
   std::vector<DirectionSegment> dir_segments;
   if (use_directions_) {
@@ -260,6 +272,12 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     kept.push_back(tp);
   }
   tracks_ = std::move(kept);
+  int corner_inliers = 0;
+  for (size_t k = 0; k < corner_of.size() && estimate.ok; ++k) {
+    const size_t e = first_corner + k;  // beyond a frame-motion estimate's inliers: not part of it
+    if (e < estimate.point_inliers.size() && estimate.point_inliers[e]) ++corner_inliers;
+    else corners_[corner_of[k]].position.reset();
+  }
   if (estimate.ok) {
     // Lines whose 3-D segment disagrees with the pose lose the link (their track may be off).
     std::vector<char> drop(line_tracks_.size(), 0);
@@ -305,7 +323,9 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     stats_.add_count("provisional_point_frames");
     stats_.add_sample("provisional_point_inliers", provisional_inliers);
   }
+  if (corner_inliers > 0) stats_.add_sample("frame_corner_inliers", corner_inliers);
   if (!config_.run.wait_when_starving && config_.pose.provisional_points) triangulate_candidates();
+  refresh_corners(left, map_inliers);
 
   maybe_make_keyframe(frame, left, right, pyramid, map_inliers);
   return true;

@@ -83,8 +83,11 @@ void read_pose(const ConfigNode& n, PoseConfig& c) {
   n.get("use_motion_prior", c.use_motion_prior);
   n.get("lost_frames_before_reset", c.lost_frames_before_reset);
   n.get("stereo_restart_at_once", c.stereo_restart_at_once);
+  n.get("hold_map_for_keyframe_s", c.hold_map_for_keyframe_s);
   n.get("merge_gate_px", c.merge_gate_px);
   n.get("provisional_points", c.provisional_points);
+  n.get("frame_corners", c.frame_corners);
+  n.get("frame_corner_spacing_px", c.frame_corner_spacing_px);
   n.get("follow_keyframe_adjustment", c.follow_keyframe_adjustment);
   n.get("min_inliers_with_prior", c.min_inliers_with_prior);
   n.get("stereo_pnp_min_inliers", c.stereo_pnp_min_inliers);
@@ -281,6 +284,11 @@ void VoConfig::validate(const std::filesystem::path& file) const {
   require(keyframes.line_angle_distance_deg > 0 && keyframes.line_angle_distance_deg <= 90, file,
           "keyframes.line_angle_distance_deg", "must be in (0, 90]");
   require(pose.lost_frames_before_reset >= 1, file, "pose.lost_frames_before_reset", "must be at least 1");
+  require(pose.frame_corners >= 0, file, "pose.frame_corners", "must not be negative (0: off)");
+  require(pose.frame_corner_spacing_px >= 1 && std::isfinite(pose.frame_corner_spacing_px), file,
+          "pose.frame_corner_spacing_px", "must be at least 1");
+  require(pose.hold_map_for_keyframe_s >= 0 && std::isfinite(pose.hold_map_for_keyframe_s), file,
+          "pose.hold_map_for_keyframe_s", "must be >= 0 (0: off)");
   require(pose.extrapolate_gap_max_s >= 0 && std::isfinite(pose.extrapolate_gap_max_s), file,
           "pose.extrapolate_gap_max_s", "must be >= 0 (0: off)");
   require(pose.extrapolate_velocity_frames >= 1, file, "pose.extrapolate_velocity_frames", "must be >= 1");

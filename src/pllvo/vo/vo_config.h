@@ -170,6 +170,13 @@ struct PoseConfig {
   /// `restarts_relocalised_at_once`. Offline input only: live, the try held the tracking thread
   /// 200-500 ms (stereo difficult_lowlight dropped 14-25 of 201 frames after its losses).
   bool stereo_restart_at_once = true;
+  /// Live monocular input only (run.wait_when_starving off): after lost_frames_before_reset
+  /// failures the map is kept while a keyframe of a tracked frame is still in flight and the
+  /// last tracked frame is at most this many seconds old (0: off). That keyframe brings new
+  /// points, followed into the latest frame when it merges; resetting threw it away, and a
+  /// monocular restart needs seconds of parallax. Offline, a starving tracker waits for it
+  /// instead; a stereo or RGB-D map restarts on one frame, and held it tracked fewer frames.
+  double hold_map_for_keyframe_s = 1.0;
   /// When a keyframe's points join the tracker, those whose map point projects farther than
   /// this (pixels) from the track at the latest pose are dropped (0: off). Late keyframes
   /// (threaded mode) otherwise bring inconsistent points that make the pose jump: EuRoC at
@@ -191,6 +198,14 @@ struct PoseConfig {
   /// live it cannot, and a monocular map ran out of points between keyframes. Provisional points
   /// never enter the map, nor the keyframe rule's point count.
   bool provisional_points = true;
+  /// Monocular, with provisional points: a starving live frame also looks for Shi-Tomasi corners away
+  /// from every track and follows up to this many of them (0: off); each is triangulated from
+  /// the tracked frame it was found in and the latest one and joins a starving frame's pose as
+  /// a provisional point (frame_corners.h). Candidates come only with keyframes, and in a dark
+  /// or fast turn they die before the next one.
+  int frame_corners = 100;
+  /// ...the corners at least this far (pixels) from each other and from every track.
+  double frame_corner_spacing_px = 12.0;
   /// When PnP / the refinement fail for want of points, a pose is still accepted from the
   /// motion prior plus at least this many agreeing observations (points + lines); 0: off.
   int min_inliers_with_prior = 5;
