@@ -199,9 +199,15 @@ class Odometry {
                                        const std::vector<TrackedLine>& lines, bool plain,
                                        const std::vector<lines::LineSegment>* predicted = nullptr,
                                        const std::vector<lines::LineSegment>* detected = nullptr) const;
-  /// pose.provisional_points: live input, and the frame follows fewer map points than
+  /// pose.provisional_points on, and live input (offline waits for the keyframe instead).
+  bool makes_provisional_points() const { return config_.pose.provisional_points && !config_.run.wait_when_starving; }
+  /// makes_provisional_points(), and the frame follows fewer map points than
   /// run.starving_points: its candidates' provisional positions join the pose.
   bool uses_provisional_points() const;
+  /// KLT's starting point for a track at `px`: where `position` (none: unknown) projects at
+  /// `T_pred_world`, unless the map is held (holding_map: its last pose is frames old).
+  cv::Point2f klt_seed(const Eigen::Vector3d* position, const cv::Point2f& px,
+                       const geometry::Pose& T_pred_world) const;
   /// Gives every candidate track its provisional position from its keyframe views and the
   /// latest pose (nullopt where the triangulation's checks fail).
   void triangulate_candidates();

@@ -12,8 +12,7 @@ using namespace odometry_detail;
 bool Odometry::uses_frame_corners() const {
   // Monocular only: a metric map's keyframes bring stereo or depth points, and two-frame depths
   // made its live poses worse (docs/vo.md).
-  return config_.pose.provisional_points && config_.pose.frame_corners > 0 && !config_.run.wait_when_starving &&
-         !metric();
+  return makes_provisional_points() && config_.pose.frame_corners > 0 && !metric();
 }
 
 void Odometry::follow_corners(const ImagePyramid& pyramid, const geometry::Pose& T_pred_world) {
@@ -22,11 +21,7 @@ void Odometry::follow_corners(const ImagePyramid& pyramid, const geometry::Pose&
   std::vector<cv::Point2f> from, predicted;
   for (const FrameCorner& c : corners_) {
     from.push_back(c.px);
-    Eigen::Vector2d uv;
-    if (c.position && !holding_map() && camera_.project(T_pred_world * *c.position, uv) && camera_.inside(uv))
-      predicted.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
-    else
-      predicted.push_back(c.px);
+    predicted.push_back(klt_seed(c.position ? &*c.position : nullptr, c.px, T_pred_world));
   }
   const TrackResult tr = tracker_.track(previous_pyramid_, pyramid, from, &predicted);
   std::vector<FrameCorner> kept;

@@ -131,12 +131,7 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   std::vector<cv::Point2f> from, predicted;
   for (size_t i = 0; i < tracks_.size(); ++i) {
     from.push_back(tracks_[i].px);
-    Eigen::Vector2d uv;
-    // A held map's last pose is frames old: the tracks' own positions are the better seed.
-    if (known[i] && !holding_map() && camera_.project(T_pred_world * positions[i], uv) && camera_.inside(uv))
-      predicted.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
-    else
-      predicted.push_back(tracks_[i].px);
+    predicted.push_back(klt_seed(known[i] ? &positions[i] : nullptr, tracks_[i].px, T_pred_world));
   }
   TrackResult tr;
   {
@@ -324,7 +319,7 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
     stats_.add_sample("provisional_point_inliers", provisional_inliers);
   }
   if (corner_inliers > 0) stats_.add_sample("frame_corner_inliers", corner_inliers);
-  if (!config_.run.wait_when_starving && config_.pose.provisional_points) triangulate_candidates();
+  if (makes_provisional_points()) triangulate_candidates();
   refresh_corners(left, map_inliers);
 
   maybe_make_keyframe(frame, left, right, pyramid, map_inliers);
@@ -334,8 +329,16 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
 bool Odometry::uses_provisional_points() const {
   // The plain starving threshold, not the noisy frames' (a monocular map waits for every
   // keyframe there): with enough map points, provisional ones only add their depth's doubt.
-  return config_.pose.provisional_points && !config_.run.wait_when_starving &&
-         count_mapped(tracks_) < config_.run.starving_points;
+  return makes_provisional_points() && count_mapped(tracks_) < config_.run.starving_points;
+}
+
+cv::Point2f Odometry::klt_seed(const Eigen::Vector3d* position, const cv::Point2f& px,
+                               const geometry::Pose& T_pred_world) const {
+  // A held map's last pose is frames old: the track's own position is the better seed.
+  Eigen::Vector2d uv;
+  if (position && !holding_map() && camera_.project(T_pred_world * *position, uv) && camera_.inside(uv))
+    return {static_cast<float>(uv.x()), static_cast<float>(uv.y())};
+  return px;
 }
 
 void Odometry::triangulate_candidates() {
