@@ -73,6 +73,41 @@ TEST(PointTracker, LocalContrastFollowsAnUnevenClippedExposureJump) {
   EXPECT_GT(local, 0.85);
 }
 
+TEST(PointTracker, ContrastFallbackTakesOverOnlyWhenPlainKltLosesMostPoints) {
+  // An uneven, clipped jump (the top five sixths 2.2x brighter): with the fallback (klt.contrast_fallback_share 0.3) most
+  // points are followed to the right place, without it the right half is lost; on an
+  // ordinary pair the second try does not run and the result is plain KLT's.
+  cv::Mat a;
+  texture({320, 240}, 11).convertTo(a, CV_8U, 0.5, 40);
+  const double dx = -1.8, dy = 2.2;
+  const cv::Mat same_light = shifted(a, dx, dy);
+  cv::Mat jump = same_light.clone();
+  cv::Mat bright;
+  jump(cv::Rect(0, 0, 320, 200)).convertTo(bright, CV_8U, 2.2, 0);
+  bright.copyTo(jump(cv::Rect(0, 0, 320, 200)));
+  const auto pts = grid_points(a.size(), 16, 24);
+  auto correct = [&](const TrackResult& r) {
+    int good = 0;
+    for (size_t i = 0; i < pts.size(); ++i)
+      good += r.ok[i] && std::hypot(r.points[i].x - pts[i].x - dx, r.points[i].y - pts[i].y - dy) < 0.5;
+    return static_cast<double>(good) / static_cast<double>(pts.size());
+  };
+  KltConfig off;
+  off.contrast_fallback_share = 0;
+  const PointTracker with((KltConfig())), without(off);
+  const ImagePyramid pa = with.build_pyramid(a), pj = with.build_pyramid(jump), ps = with.build_pyramid(same_light);
+  const TrackResult plain = without.track_with_contrast_fallback(pa, pj, pts);
+  const TrackResult retried = with.track_with_contrast_fallback(pa, pj, pts);
+  EXPECT_FALSE(plain.contrast_retried);
+  EXPECT_LT(correct(plain), 0.3);
+  EXPECT_TRUE(retried.contrast_retried);
+  EXPECT_GT(correct(retried), 0.85);
+  const TrackResult ordinary = with.track_with_contrast_fallback(pa, ps, pts);
+  EXPECT_FALSE(ordinary.contrast_retried);
+  EXPECT_EQ(ordinary.ok, with.track(pa, ps, pts).ok);
+  EXPECT_GT(correct(ordinary), 0.9);
+}
+
 TEST(PointTracker, NoiseEstimateFollowsTheAddedNoiseNotTheTexture) {
   // Smooth texture at mid grey plus Gaussian noise of known sigma: the estimate tracks the
   // noise within 15 % and stays low on the clean texture (the denoising switch's input).

@@ -198,4 +198,43 @@ TEST(Recovery, AMonocularMapResumesAtItsScaleAfterAShortGap) {
 }
 
 }  // namespace
+// One black frame (a flash, a dropped exposure) fails its pose; it is not the next frame's KLT
+// reference (pose.keep_reference_over_failed_frames), so the next frame is followed from the
+// last tracked one and the map goes on. Taken as the reference, it cut every track (KLT finds
+// nothing on it) and the next frames failed too until the map restarted.
+TEST(Recovery, OneBlackFrameIsSkippedAndTheMapGoesOn) {
+  struct Case {
+    const char* name;
+    bool stereo;
+    size_t black;  // after the monocular start (~frame 49) as well
+  };
+  for (const Case c : {Case{"stereo", true, 60}, Case{"mono", false, 75}}) {
+    const auto spec = testing::small_spec("easy_normal", 5.0, c.stereo);
+    auto run = [&](bool keep_reference) {
+      VoConfig config = testing::deterministic();
+      config.pose.keep_reference_over_failed_frames = keep_reference;
+      testing::BlackedOutSequence seq(io::open_sequence(testing::rendered(spec, std::string("one_black_") + c.name)),
+                                      c.black, c.black);
+      return run_sequence(seq, config, {});
+    };
+    const RunSummary kept = run(true), cut = run(false);
+    std::printf("[ recovery ] %s, one black frame: reference kept %zu of %zu frames tracked, %d resets; taken as the "
+                "reference %zu, %d resets; ATE %.2f %% against %.2f %%\n",
+                c.name, kept.tracked_frames, kept.frames, kept.resets, cut.tracked_frames, cut.resets,
+                kept.error ? kept.error->percent_of_path : -1.0, cut.error ? cut.error->percent_of_path : -1.0);
+    EXPECT_EQ(kept.resets, 0) << c.name;
+    ASSERT_EQ(kept.lost.size(), 1u) << c.name;
+    EXPECT_EQ(kept.lost[0].first_frame, c.black) << c.name;
+    EXPECT_EQ(kept.lost[0].last_frame, c.black) << c.name;
+    EXPECT_EQ(testing::stats_count(kept.stats, "failed_frames_not_reference"), 1) << c.name;
+    EXPECT_GE(cut.resets, 1) << c.name;
+    ASSERT_TRUE(kept.error.has_value());
+    ASSERT_TRUE(cut.error.has_value());
+    // Measured (ORB, 376 x 240): stereo 1.54 % against 3.19 % after the restart; mono 7.14 %
+    // against 7.29 % (a five-second flight whose map starts at frame ~49: short and coarse).
+    if (c.stereo) EXPECT_LT(kept.error->percent_of_path, 0.75 * cut.error->percent_of_path);
+    EXPECT_LT(kept.error->percent_of_path, c.stereo ? 2.5 : 10.0) << c.name;
+  }
+}
+
 }  // namespace pllvo::vo

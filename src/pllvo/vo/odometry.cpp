@@ -132,13 +132,28 @@ FrameRecord Odometry::process(const io::Frame& frame) {
   if (state_ == TrackingState::kUninitialized) apply_start_outcome(frame.index);
 
   bool tracked = false;
-  if (state_ == TrackingState::kTracking)
+  bool reference = true;  // this frame is the next one's KLT reference
+  if (state_ == TrackingState::kTracking) {
+    // The tracks as they are in the reference frame, restored if this frame does not become it.
+    std::vector<TrackedPoint> points = tracks_;
+    std::vector<TrackedLine> lines = line_tracks_;
+    std::vector<FrameCorner> corners = corners_;
     tracked = track_or_restart(frame, left, right, pyramid, record);
-  else
+    if (!tracked && keeps_reference_over_failure()) {
+      tracks_ = std::move(points);
+      line_tracks_ = std::move(lines);
+      corners_ = std::move(corners);
+      reference = false;
+      stats_.add_count("failed_frames_not_reference");
+    }
+  } else {
     tracked = initialize(frame, left, right, pyramid);
+  }
 
-  if (!pending_keyframe_frames_.empty()) pyramid_buffer_.push(frame.index, pyramid, kMaxBufferedPyramids);
-  previous_pyramid_ = pyramid;
+  if (reference) {
+    if (!pending_keyframe_frames_.empty()) pyramid_buffer_.push(frame.index, pyramid, kMaxBufferedPyramids);
+    previous_pyramid_ = pyramid;
+  }
   previous_image_ = left;
   previous_index_ = frame.index;
 

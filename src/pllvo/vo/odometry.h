@@ -227,6 +227,12 @@ class Odometry {
   void handle_lost(double timestamp);
   /// Whether the map is held past pose.lost_frames_before_reset for a keyframe in flight.
   bool holding_map() const { return lost_frames_ >= config_.pose.lost_frames_before_reset; }
+  /// Whether a frame that just failed stays out of the KLT reference (pose.keep_reference_over_failed_frames):
+  /// the map still waits for its pose and is not held.
+  bool keeps_reference_over_failure() const {
+    return config_.pose.keep_reference_over_failed_frames && state_ == TrackingState::kTracking && lost_frames_ > 0 &&
+           !holding_map();
+  }
   void reset();
   /// Where a map started at `frame_index` (time `timestamp`) after a reset begins, unless it
   /// relocalises: the last tracked pose, its position carried on by the mean step of the frames
@@ -240,10 +246,6 @@ class Odometry {
   double denoise(cv::Mat& left, cv::Mat& right);
   /// Scales both images by one gain so that the left image's mean is klt.normalize_mean.
   void normalize_brightness(cv::Mat& left, cv::Mat& right) const;
-  /// Too few tracks survived: tracks them again on locally contrast-normalised images
-  /// (klt.contrast_fallback_share) and keeps whichever result follows more of them.
-  void retrack_on_local_contrast(const cv::Mat& left, const std::vector<cv::Point2f>& from,
-                                 const std::vector<cv::Point2f>& predicted, TrackResult& tr);
 
   /// The detector's segments of the frame's image (`frame_index`), detected once a frame:
   /// line re-detection, the directions and the frame's keyframe share them.
@@ -284,6 +286,7 @@ class Odometry {
   std::vector<TrackedLine> line_tracks_;
   std::vector<FrameCorner> corners_;  ///< pose.frame_corners: live input only
   lines::OverlapAngleSet reference_angles_;  ///< of the current keyframe's lines
+  /// The KLT reference: the latest frame, unless it failed (pose.keep_reference_over_failed_frames).
   ImagePyramid previous_pyramid_;
   cv::Mat previous_image_;  ///< working left image of the latest frame (tracking_view)
   size_t previous_index_ = 0;

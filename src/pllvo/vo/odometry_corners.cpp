@@ -23,7 +23,7 @@ void Odometry::follow_corners(const ImagePyramid& pyramid, const geometry::Pose&
     from.push_back(c.px);
     predicted.push_back(klt_seed(c.position ? &*c.position : nullptr, c.px, T_pred_world));
   }
-  const TrackResult tr = tracker_.track(previous_pyramid_, pyramid, from, &predicted);
+  const TrackResult tr = tracker_.track_with_contrast_fallback(previous_pyramid_, pyramid, from, &predicted);
   std::vector<FrameCorner> kept;
   for (size_t i = 0; i < corners_.size(); ++i) {
     if (!tr.ok[i]) continue;

@@ -86,7 +86,7 @@ void Odometry::follow(const std::vector<std::pair<size_t, ImagePyramid>>& frames
     if (!points.empty()) {
       std::vector<cv::Point2f> pts;
       for (const auto& p : points) pts.push_back(p.px);
-      const TrackResult tr = tracker_.track(from, to, pts);
+      const TrackResult tr = tracker_.track_with_contrast_fallback(from, to, pts);
       std::vector<TrackedPoint> next;
       for (size_t i = 0; i < points.size(); ++i)
         if (tr.ok[i]) next.push_back({tr.points[i], points[i].point, points[i].origin, points[i].last});

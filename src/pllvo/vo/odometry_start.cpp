@@ -82,7 +82,7 @@ bool Odometry::initialize_mono(const io::Frame& frame, const cv::Mat& left, cons
   std::vector<cv::Point2f> from;
   for (int i = 0; i < static_cast<int>(ref.current.size()); ++i)
     if (ref.alive[i]) which.push_back(i), from.push_back(ref.current[i]);
-  const TrackResult tr = tracker_.track(previous_pyramid_, pyramid, from);
+  const TrackResult tr = tracker_.track_with_contrast_fallback(previous_pyramid_, pyramid, from);
   std::vector<Eigen::Vector2d> px0, px1;
   std::vector<double> flow;
   for (size_t k = 0; k < which.size(); ++k) {

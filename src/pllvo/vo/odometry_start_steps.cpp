@@ -232,7 +232,7 @@ void Odometry::follow_positions(const std::vector<std::pair<size_t, ImagePyramid
     std::vector<cv::Point2f> from;
     for (size_t i = 0; i < positions.size(); ++i)
       if (!std::isnan(positions[i].x)) which.push_back(i), from.push_back(positions[i]);
-    const TrackResult tr = tracker_.track(frames[k - 1].second, frames[k].second, from);
+    const TrackResult tr = tracker_.track_with_contrast_fallback(frames[k - 1].second, frames[k].second, from);
     for (size_t j = 0; j < which.size(); ++j)
       positions[which[j]] = tr.ok[j] ? tr.points[j] : cv::Point2f(NAN, NAN);
     history.emplace_back(frames[k].first, positions);

@@ -60,23 +60,6 @@ std::vector<int> associate_by_position(const std::vector<lines::LineSegment>& ex
 
 using namespace odometry_detail;
 
-void Odometry::retrack_on_local_contrast(const cv::Mat& left, const std::vector<cv::Point2f>& from,
-                                         const std::vector<cv::Point2f>& predicted, TrackResult& tr) {
-  const double share = config_.klt.contrast_fallback_share;
-  if (share <= 0 || from.empty() || previous_image_.empty() ||
-      tr.tracked() >= share * static_cast<double>(from.size()))
-    return;
-  const int window = config_.klt.contrast_window_px;
-  const ImagePyramid a = tracker_.build_pyramid(local_contrast(previous_image_, window));
-  const ImagePyramid b = tracker_.build_pyramid(local_contrast(left, window));
-  TrackResult again = tracker_.track(a, b, from, &predicted);
-  stats_.add_count("klt_contrast_fallbacks");
-  if (again.tracked() > tr.tracked()) {
-    spdlog::debug("KLT on local contrast: {} of {} tracks instead of {}", again.tracked(), from.size(), tr.tracked());
-    tr = std::move(again);
-  }
-}
-
 bool Odometry::track_or_restart(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
                                 const ImagePyramid& pyramid, FrameRecord& record) {
   if (track(frame, left, right, pyramid, record)) return true;
@@ -109,8 +92,10 @@ bool Odometry::track_or_restart(const io::Frame& frame, const cv::Mat& left, con
 
 bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,
                      const ImagePyramid& pyramid, FrameRecord& record) {
-  const geometry::Pose T_world_pred =
-      config_.pose.use_motion_prior && has_velocity_ ? T_world_work_ * velocity_ : T_world_work_;
+  // After failed frames the last pose is that many steps back (a held map's is too old to extrapolate).
+  geometry::Pose T_world_pred = T_world_work_;
+  if (config_.pose.use_motion_prior && has_velocity_)
+    for (int step = 0; step <= (holding_map() ? 0 : lost_frames_); ++step) T_world_pred = T_world_pred * velocity_;
   const geometry::Pose T_pred_world = T_world_pred.inverse();
 
   std::vector<Eigen::Vector3d> positions(tracks_.size());
@@ -136,8 +121,8 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   TrackResult tr;
   {
     ScopedTimer t(stats_, "klt");
-    tr = tracker_.track(previous_pyramid_, pyramid, from, &predicted);
-    retrack_on_local_contrast(left, from, predicted, tr);
+    tr = tracker_.track_with_contrast_fallback(previous_pyramid_, pyramid, from, &predicted);
+    if (tr.contrast_retried) stats_.add_count("klt_contrast_fallbacks");
   }
   follow_corners(pyramid, T_pred_world);
   stats_.add_count("klt_rejected.lk", tr.rejected.lk);

@@ -102,6 +102,21 @@ std::vector<unsigned char> PointTracker::align(const std::vector<cv::Mat>& from,
   return ok;
 }
 
+TrackResult PointTracker::track_with_contrast_fallback(const ImagePyramid& from, const ImagePyramid& to,
+                                                       const std::vector<cv::Point2f>& points,
+                                                       const std::vector<cv::Point2f>* predicted) const {
+  TrackResult tr = track(from, to, points, predicted);
+  const double share = config_.contrast_fallback_share;
+  if (share <= 0 || points.empty() || tr.tracked() >= share * static_cast<double>(points.size())) return tr;
+  const int window = config_.contrast_window_px;
+  TrackResult again = track(build_pyramid(local_contrast(from.image, window)),
+                            build_pyramid(local_contrast(to.image, window)), points, predicted);
+  const bool better = again.tracked() > tr.tracked();
+  TrackResult out = better ? std::move(again) : std::move(tr);
+  out.contrast_retried = true;
+  return out;
+}
+
 cv::Mat local_contrast(const cv::Mat& image, int window) {
   cv::Mat f, mean, mean_sq, out;
   image.convertTo(f, CV_32F);

@@ -31,6 +31,8 @@ struct TrackResult {
   struct Rejections {
     int lk = 0, border = 0, forward_backward = 0, appearance = 0;
   } rejected;
+  /// The result of track_with_contrast_fallback's second try on local contrast was weighed.
+  bool contrast_retried = false;
   int tracked() const;
 };
 
@@ -46,6 +48,15 @@ class PointTracker {
   /// projection of a 3-D point under the motion prior; without it the search starts in place.
   TrackResult track(const ImagePyramid& from, const ImagePyramid& to, const std::vector<cv::Point2f>& points,
                     const std::vector<cv::Point2f>* predicted = nullptr) const;
+
+  /// As track(); when fewer than klt.contrast_fallback_share of the points survive (a flicker
+  /// or exposure step that one gain per frame does not remove), tracks them again on locally
+  /// contrast-normalised images (local_contrast) and returns whichever result follows more.
+  /// Every frame-to-frame hop of the odometry goes through it: the map's tracks, the tracker's
+  /// corners, the keyframe catch-up and the monocular start.
+  TrackResult track_with_contrast_fallback(const ImagePyramid& from, const ImagePyramid& to,
+                                           const std::vector<cv::Point2f>& points,
+                                           const std::vector<cv::Point2f>* predicted = nullptr) const;
 
   /// Moves each of `positions` (in `to`, e.g. where a frame-to-frame track ended) onto the patch
   /// of its `reference` point in `from` by one LK alignment over `levels` pyramid levels above

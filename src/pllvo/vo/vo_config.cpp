@@ -84,6 +84,7 @@ void read_pose(const ConfigNode& n, PoseConfig& c) {
   n.get("lost_frames_before_reset", c.lost_frames_before_reset);
   n.get("stereo_restart_at_once", c.stereo_restart_at_once);
   n.get("hold_map_for_keyframe_s", c.hold_map_for_keyframe_s);
+  n.get("keep_reference_over_failed_frames", c.keep_reference_over_failed_frames);
   n.get("merge_gate_px", c.merge_gate_px);
   n.get("provisional_points", c.provisional_points);
   n.get("frame_corners", c.frame_corners);

@@ -85,7 +85,9 @@ struct KltConfig {
   /// flicker and exposure changes then keep LK's brightness constancy. 0: off.
   double normalize_mean = 110.0;
   double max_normalize_gain = 6.0;  ///< the gain stays within [1/max, max]
-  /// When fewer than this share of the tracks survive a frame, they are tracked again on
+  /// When fewer than this share of the points followed from one frame to the next survive (the
+  /// map's tracks, the tracker's corners, a keyframe's points caught up over the frames since,
+  /// a monocular start's points), they are tracked again on
   /// locally contrast-normalised images (zero mean, unit contrast over `contrast_window_px`):
   /// a sudden exposure change with clipped highlights, or uneven flicker, breaks the one-gain
   /// normalisation above, not this. Only a fallback: on ordinary frames it tracks worse
@@ -170,6 +172,13 @@ struct PoseConfig {
   /// `restarts_relocalised_at_once`. Offline input only: live, the try held the tracking thread
   /// 200-500 ms (stereo difficult_lowlight dropped 14-25 of 201 frames after its losses).
   bool stereo_restart_at_once = true;
+  /// A frame whose pose fails, while the map still waits for the pose to come back (fewer than
+  /// lost_frames_before_reset failures in a row), is not the next frame's KLT reference: the
+  /// next frame is followed from the last tracked one, and the tracks keep their positions
+  /// there. A flicker frame or a blurred one otherwise cut every track that KLT lost on it,
+  /// and the map ran out of points. Past lost_frames_before_reset (a map held for its keyframe)
+  /// the tracks follow frame to frame again.
+  bool keep_reference_over_failed_frames = true;
   /// Live monocular input only (run.wait_when_starving off): after lost_frames_before_reset
   /// failures the map is kept while a keyframe of a tracked frame is still in flight and the
   /// last tracked frame is at most this many seconds old (0: off). That keyframe brings new
