@@ -74,9 +74,10 @@ TEST(PointTracker, LocalContrastFollowsAnUnevenClippedExposureJump) {
 }
 
 TEST(PointTracker, ContrastFallbackTakesOverOnlyWhenPlainKltLosesMostPoints) {
-  // An uneven, clipped jump (the top five sixths 2.2x brighter): with the fallback (klt.contrast_fallback_share 0.3) most
-  // points are followed to the right place, without it the right half is lost; on an
-  // ordinary pair the second try does not run and the result is plain KLT's.
+  // An uneven, clipped jump (the top five sixths 2.2x brighter): with the fallback
+  // (klt.contrast_fallback_share 0.3) most points are followed to the right place, without it
+  // the brightened part is lost; on an ordinary pair the second try does not run and the
+  // result is plain KLT's.
   cv::Mat a;
   texture({320, 240}, 11).convertTo(a, CV_8U, 0.5, 40);
   const double dx = -1.8, dy = 2.2;

@@ -6,6 +6,7 @@
 
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
+#include <spdlog/spdlog.h>
 
 #include "pllvo/common/error.h"
 
@@ -112,6 +113,9 @@ TrackResult PointTracker::track_with_contrast_fallback(const ImagePyramid& from,
   TrackResult again = track(build_pyramid(local_contrast(from.image, window)),
                             build_pyramid(local_contrast(to.image, window)), points, predicted);
   const bool better = again.tracked() > tr.tracked();
+  if (better)
+    spdlog::debug("KLT on local contrast: {} of {} points instead of {}", again.tracked(), points.size(),
+                  tr.tracked());
   TrackResult out = better ? std::move(again) : std::move(tr);
   out.contrast_retried = true;
   return out;
