@@ -346,6 +346,9 @@ PYBIND11_MODULE(_pllvo, m) {
            })
       .def("trajectory", [](const PyOdometry& self) { return to_numpy(self.odometry->trajectory()); },
            "(stamps (N,), T_world_cam0 (N, 4, 4)) of the tracked frames")
+      .def("anchored_trajectory",
+           [](const PyOdometry& self) { return to_numpy(self.odometry->anchored_trajectory()); },
+           "the same frames on their keyframes' bundle-adjusted poses (trajectory_anchored.tum)")
       .def("keyframes", [](const PyOdometry& self) { return to_numpy(self.odometry->keyframes()); })
       .def("map_points", [](const PyOdometry& self) { return rows(self.odometry->map_points()); })
       .def_property_readonly("stereo", [](const PyOdometry& self) { return self.odometry->stereo(); })

@@ -170,7 +170,10 @@ void print_summary(const vo::RunSummary& s, const std::string& format, const std
     std::printf("ATE RMSE %.4f m over %zu poses (%s), %.2f%% of the %.3f m path\n", s.error->rmse_m,
                 s.error->matched_poses, how.c_str(), s.error->percent_of_path, s.error->path_length_m);
   }
-  std::printf("outputs: %s/{trajectory.tum, keyframes.tum, stats.json, map.ply}\n", out.c_str());
+  if (s.anchored_error)
+    std::printf("ATE RMSE %.4f m, %.2f%% of the path, with every frame on its keyframe's final pose (trajectory_anchored.tum)\n",
+                s.anchored_error->rmse_m, s.anchored_error->percent_of_path);
+  std::printf("outputs: %s/{trajectory.tum, trajectory_anchored.tum, keyframes.tum, stats.json, map.ply}\n", out.c_str());
 }
 
 }  // namespace

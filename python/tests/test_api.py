@@ -43,6 +43,11 @@ def test_streaming_api_gives_the_cli_trajectory_bitwise(cli_run, synthetic_stere
     assert sum(r.keyframe for r in results) == json.load(open(cli_run / "stats.json"))["keyframes"]
     odometry.save(str(tmp_path))
     assert (tmp_path / "trajectory.tum").read_text() == (cli_run / "trajectory.tum").read_text()
+    anchored_stamps, anchored_poses = odometry.anchored_trajectory()
+    np.testing.assert_array_equal(anchored_stamps, stamps)
+    np.testing.assert_array_equal(tum_rows(anchored_stamps, anchored_poses),
+                                  read_tum(cli_run / "trajectory_anchored.tum")[:, :4])
+    assert not np.array_equal(anchored_poses, poses)
     assert (tmp_path / "map.ply").read_text() == (cli_run / "map.ply").read_text()
 
 

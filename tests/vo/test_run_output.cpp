@@ -55,6 +55,32 @@ TEST(RunOutput, TrajectoryHoldsTrackedFramesOnlyAndRoundTrips) {
   EXPECT_EQ(files_in(dir).size(), 1u) << "temporary file left behind";
 }
 
+// Frames 1-3 follow keyframe 1 and 6-8 keyframe 6 (a new segment from frame 6). The adjustment
+// moved both keyframes; each frame keeps its tracked pose relative to its keyframe, the
+// segment's frames before its first keyframe keep theirs, and lost frames stay absent.
+TEST(RunOutput, AnchoredTrajectoryCarriesEachKeyframesCorrectionToItsFrames) {
+  auto records = records_with_gaps();  // tracked: 1, 2, 3, 6, 7, 8
+  for (auto& r : records) r.segment = r.index >= 6 ? 1 : 0;
+  const geometry::Pose move1 = geometry::make_pose(
+      Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitY()).toRotationMatrix(), Eigen::Vector3d(0.2, 0, -0.1));
+  const geometry::Pose move6 = geometry::make_pose(Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, 0.3, 0));
+  std::vector<KeyframePose> keyframes = {{7, 1, move6 * records[7].T_world_cam},
+                                         {1, 0, move1 * records[1].T_world_cam}};
+  const io::Trajectory anchored = keyframe_anchored_trajectory(records, keyframes);
+  ASSERT_EQ(anchored.size(), 6u);
+  const geometry::Pose expected[] = {move1 * records[1].T_world_cam, move1 * records[2].T_world_cam,
+                                     move1 * records[3].T_world_cam, records[6].T_world_cam,
+                                     move6 * records[7].T_world_cam, move6 * records[8].T_world_cam};
+  for (size_t k = 0; k < 6; ++k) {
+    EXPECT_TRUE(anchored.poses[k].isApprox(expected[k], 1e-12)) << "pose " << k;
+    EXPECT_FALSE(anchored.poses[k].isApprox(tracked_trajectory(records).poses[k], 1e-6) && k != 3) << "pose " << k;
+  }
+  // A keyframe of the old segment does not carry a later segment's frames.
+  keyframes.erase(keyframes.begin());
+  const io::Trajectory without = keyframe_anchored_trajectory(records, keyframes);
+  EXPECT_TRUE(without.poses[5].isApprox(records[8].T_world_cam, 1e-12));
+}
+
 TEST(RunOutput, LostIntervalsAreMaximalRuns) {
   const auto lost = lost_intervals(records_with_gaps());
   ASSERT_EQ(lost.size(), 3u);

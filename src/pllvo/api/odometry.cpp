@@ -224,6 +224,12 @@ std::vector<StampedPose> Odometry::trajectory() const {
   return stamped(vo::tracked_trajectory(impl_->session->odometry().records()));
 }
 
+std::vector<StampedPose> Odometry::anchored_trajectory() const {
+  if (impl_->summary) return stamped(impl_->summary->anchored_trajectory);
+  const vo::Odometry& odometry = impl_->session->odometry();
+  return stamped(vo::keyframe_anchored_trajectory(odometry.records(), odometry.keyframe_poses()));
+}
+
 std::vector<StampedPose> Odometry::keyframes() const {
   if (impl_->summary) return stamped(impl_->summary->keyframe_trajectory);
   return stamped(impl_->session->odometry().keyframe_trajectory());

@@ -128,6 +128,9 @@ class Odometry {
   void finish();
   /// Poses of the tracked frames (T_world_cam0), as trajectory.tum has them.
   std::vector<StampedPose> trajectory() const;
+  /// The same frames, each on its keyframe's current (bundle-adjusted) pose at its tracked pose
+  /// relative to it, as trajectory_anchored.tum has them: the better estimate after the fact.
+  std::vector<StampedPose> anchored_trajectory() const;
   /// Keyframe poses after bundle adjustment; poll them to follow map updates.
   std::vector<StampedPose> keyframes() const;
   /// The map's 3-D points in the world frame.
@@ -136,7 +139,7 @@ class Odometry {
   bool rgbd() const;  ///< depth images are the metric source
   /// After finish(): counts and stats.json.
   RunReport report() const;
-  /// After finish(): trajectory.tum, keyframes.tum, map.ply, stats.json in `dir` (created),
+  /// After finish(): trajectory.tum, trajectory_anchored.tum, keyframes.tum, map.ply, stats.json in `dir` (created),
   /// exactly as `pllvo run --out dir` writes them.
   void save(const std::filesystem::path& dir) const;
 

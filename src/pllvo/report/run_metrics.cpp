@@ -36,6 +36,7 @@ std::map<std::string, double> RunMetrics::values() const {
       {"resets", resets},
       {"ate_rmse_m", ate_rmse_m},
       {"ate_percent", ate_percent},
+      {"ate_anchored_percent", ate_anchored_percent},
       {"rpe_trans_m", rpe_trans_m},
       {"rpe_rot_deg", rpe_rot_deg},
       {"frame_ms_mean", frame_ms_mean},
@@ -88,6 +89,8 @@ void add_stats(const nlohmann::json& stats, RunMetrics& m) {
   m.keyframes = number(stats, "keyframes");
   m.resets = number(stats, "resets");
   m.tracked_share = m.frames > 0 ? m.tracked_frames / m.frames : NAN;
+  if (stats.contains("trajectory_error_keyframe_anchored"))
+    m.ate_anchored_percent = number(stats["trajectory_error_keyframe_anchored"], "ate_percent_of_path");
   const double wall = number(stats, "wall_time_s");
   m.wall_ms_per_frame = m.frames > 0 ? 1000.0 * wall / m.frames : NAN;
   const nlohmann::json timing = stats.value("timing_ms", nlohmann::json::object());

@@ -27,6 +27,8 @@ struct RunMetrics {
   double frames = 0, tracked_frames = 0, keyframes = 0, resets = 0;
   double tracked_share = 0;  ///< tracked / frames
   double ate_rmse_m = NAN, ate_percent = NAN;  ///< APE translation RMSE; % of the ground-truth path
+  /// The same of the keyframe-anchored trajectory (stats.json trajectory_error_keyframe_anchored).
+  double ate_anchored_percent = NAN;
   double rpe_trans_m = NAN, rpe_rot_deg = NAN; ///< RPE RMSE over pairs ~1 s apart
   double frame_ms_mean = NAN, frame_ms_median = NAN, frame_ms_p95 = NAN;  ///< tracking thread
   double wall_ms_per_frame = NAN;  ///< whole run (worker included) / frames: throughput

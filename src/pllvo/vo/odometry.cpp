@@ -271,6 +271,14 @@ io::Trajectory Odometry::keyframe_trajectory() const {
   return traj;
 }
 
+std::vector<KeyframePose> Odometry::keyframe_poses() const {
+  std::vector<KeyframePose> poses;
+  map_.read([&](const MapData& m) {
+    for (const auto& [id, kf] : m.keyframes) poses.push_back({kf.frame_index, kf.segment, to_output(kf.T_world_cam)});
+  });
+  return poses;
+}
+
 MapData Odometry::map_snapshot() const {
   // The working camera differs from cam0 by a rotation only, and the world is defined in
   // cam0 terms already (T_world_work includes T_cam0_work), so map coordinates are output coordinates.

@@ -81,6 +81,8 @@ class Odometry {
   int resets() const { return resets_; }
   /// Keyframe poses (T_world_cam0, after bundle adjustment) with their timestamps.
   io::Trajectory keyframe_trajectory() const;
+  /// The map's keyframes with their current poses (output camera) and frames.
+  std::vector<KeyframePose> keyframe_poses() const;
   /// Map in the output world frame.
   MapData map_snapshot() const;
   const RunStats& stats() const { return stats_; }

@@ -222,6 +222,7 @@ RunSummary OdometrySession::summary(const SessionSource& source, const std::opti
     summary.max_displacement =
         std::max(summary.max_displacement, (p - summary.trajectory.poses[0].translation()).norm());
   }
+  summary.anchored_trajectory = keyframe_anchored_trajectory(odometry.records(), odometry.keyframe_poses());
   summary.keyframe_trajectory = odometry.keyframe_trajectory();
   summary.keyframes = summary.keyframe_trajectory.size();
   summary.map = odometry.map_snapshot();
@@ -260,14 +261,18 @@ RunSummary OdometrySession::summary(const SessionSource& source, const std::opti
   j["estimate"] = {{"path_length", summary.path_length}, {"max_displacement", summary.max_displacement}};
   j["wall_time_s"] = summary.wall_seconds;
   j["frames_per_second"] = summary.frames_per_second;
-  if (source.ground_truth) summary.error = trajectory_error(summary.trajectory, *source.ground_truth, summary.metric());
-  if (summary.error) {
-    const auto& e = *summary.error;
-    j["trajectory_error"] = {{"align", e.align},          {"matched_poses", e.matched_poses},
-                             {"ate_rmse_m", e.rmse_m},     {"ate_max_m", e.max_m},
-                             {"path_length_m", e.path_length_m}, {"ate_percent_of_path", e.percent_of_path},
-                             {"scale", e.scale}, {"collinear_reference", e.collinear_reference}};
+  if (source.ground_truth) {
+    summary.error = trajectory_error(summary.trajectory, *source.ground_truth, summary.metric());
+    summary.anchored_error = trajectory_error(summary.anchored_trajectory, *source.ground_truth, summary.metric());
   }
+  auto error_json = [](const TrajectoryError& e) {
+    return nlohmann::json{{"align", e.align},          {"matched_poses", e.matched_poses},
+                          {"ate_rmse_m", e.rmse_m},     {"ate_max_m", e.max_m},
+                          {"path_length_m", e.path_length_m}, {"ate_percent_of_path", e.percent_of_path},
+                          {"scale", e.scale}, {"collinear_reference", e.collinear_reference}};
+  };
+  if (summary.error) j["trajectory_error"] = error_json(*summary.error);
+  if (summary.anchored_error) j["trajectory_error_keyframe_anchored"] = error_json(*summary.anchored_error);
   if (summary.live) {
     const auto& live = *summary.live;
     j["realtime"] = {{"speed", live.speed},
@@ -284,6 +289,7 @@ RunSummary OdometrySession::summary(const SessionSource& source, const std::opti
 
 void OdometrySession::save(const RunSummary& summary, const std::filesystem::path& dir) {
   write_trajectory_tum(summary.trajectory, dir / "trajectory.tum");
+  write_trajectory_tum(summary.anchored_trajectory, dir / "trajectory_anchored.tum");
   write_trajectory_tum(summary.keyframe_trajectory, dir / "keyframes.tum");
   write_map_ply(summary.map, dir / "map.ply");
   write_json(summary.stats, dir / "stats.json");

@@ -64,13 +64,16 @@ struct RunSummary {
   bool metric() const { return stereo || depth; }  ///< a map at metric scale
   const char* mode() const { return stereo ? "stereo" : depth ? "rgbd" : "mono"; }
   std::vector<LostInterval> lost;
-  io::Trajectory trajectory;  ///< tracked frames, T_world_cam0
+  io::Trajectory trajectory;  ///< tracked frames, T_world_cam0, each as it was tracked
+  /// The same frames on their keyframes' final poses (keyframe_anchored_trajectory).
+  io::Trajectory anchored_trajectory;
   io::Trajectory keyframe_trajectory;
   MapData map;
   double path_length = 0;      ///< of the estimated trajectory (map units; metres for stereo)
   double max_displacement = 0; ///< largest distance from the first tracked pose
   nlohmann::json stats;       ///< what stats.json holds
-  std::optional<TrajectoryError> error;  ///< when the source has ground truth
+  std::optional<TrajectoryError> error;  ///< of `trajectory`, when the source has ground truth
+  std::optional<TrajectoryError> anchored_error;  ///< of `anchored_trajectory`
   std::optional<LiveRunStats> live;      ///< live-rate runs
 };
 

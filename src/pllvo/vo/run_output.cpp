@@ -1,10 +1,12 @@
 #include "pllvo/vo/run_output.h"
 
+#include <algorithm>
 #include <atomic>
 #include <fstream>
 #include <iomanip>
 #include <random>
 #include <sstream>
+#include <unordered_map>
 
 #include <unistd.h>
 
@@ -64,6 +66,29 @@ io::Trajectory tracked_trajectory(const std::vector<FrameRecord>& records) {
   io::Trajectory traj;
   for (const auto& r : records)
     if (r.tracked) traj.push_back(r.timestamp, r.T_world_cam);
+  return traj;
+}
+
+io::Trajectory keyframe_anchored_trajectory(const std::vector<FrameRecord>& records,
+                                            std::vector<KeyframePose> keyframes) {
+  std::unordered_map<size_t, const FrameRecord*> by_index;
+  for (const auto& r : records) by_index[r.index] = &r;
+  std::sort(keyframes.begin(), keyframes.end(),
+            [](const KeyframePose& a, const KeyframePose& b) { return a.frame_index < b.frame_index; });
+  io::Trajectory traj;
+  for (const auto& r : records) {
+    if (!r.tracked) continue;
+    geometry::Pose T = r.T_world_cam;
+    auto it = std::upper_bound(keyframes.begin(), keyframes.end(), r.index,
+                               [](size_t index, const KeyframePose& k) { return index < k.frame_index; });
+    if (it != keyframes.begin()) {
+      const KeyframePose& kf = *std::prev(it);
+      const auto at = by_index.find(kf.frame_index);
+      if (kf.segment == r.segment && at != by_index.end() && at->second->tracked && at->second->segment == r.segment)
+        T = kf.T_world_cam * at->second->T_world_cam.inverse() * r.T_world_cam;
+    }
+    traj.push_back(r.timestamp, T);
+  }
   return traj;
 }
 

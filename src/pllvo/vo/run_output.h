@@ -37,8 +37,23 @@ struct LostInterval {
 };
 std::vector<LostInterval> lost_intervals(const std::vector<FrameRecord>& records);
 
-/// TUM trajectory of the tracked frames only (lost frames are absent).
+/// TUM trajectory of the tracked frames only (lost frames are absent), each pose as it was
+/// tracked (what a live consumer received).
 io::Trajectory tracked_trajectory(const std::vector<FrameRecord>& records);
+
+/// A keyframe's pose at the end of the run (after the window bundle adjustment) and the frame
+/// it was taken at.
+struct KeyframePose {
+  size_t frame_index = 0;
+  int segment = 0;
+  geometry::Pose T_world_cam = geometry::Pose::Identity();
+};
+/// The tracked frames, each placed where its tracked pose relative to its keyframe (the last
+/// one of its map segment taken at or before it) puts it from that keyframe's final pose: the
+/// trajectory with the bundle adjustment's corrections carried to every frame (how ORB-SLAM3
+/// writes its trajectory files). A frame before its segment's first keyframe keeps its pose.
+io::Trajectory keyframe_anchored_trajectory(const std::vector<FrameRecord>& records,
+                                            std::vector<KeyframePose> keyframes);
 void write_trajectory_tum(const io::Trajectory& trajectory, const std::filesystem::path& path);
 
 /// ASCII PLY: one vertex per map point (grey) and two per line segment (red),
