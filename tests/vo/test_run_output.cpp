@@ -64,8 +64,8 @@ TEST(RunOutput, AnchoredTrajectoryCarriesEachKeyframesCorrectionToItsFrames) {
   const geometry::Pose move1 = geometry::make_pose(
       Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitY()).toRotationMatrix(), Eigen::Vector3d(0.2, 0, -0.1));
   const geometry::Pose move6 = geometry::make_pose(Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, 0.3, 0));
-  std::vector<KeyframePose> keyframes = {{7, 1, move6 * records[7].T_world_cam},
-                                         {1, 0, move1 * records[1].T_world_cam}};
+  std::vector<KeyframePose> keyframes = {{7, records[7].timestamp, 1, move6 * records[7].T_world_cam},
+                                         {1, records[1].timestamp, 0, move1 * records[1].T_world_cam}};
   const io::Trajectory anchored = keyframe_anchored_trajectory(records, keyframes);
   ASSERT_EQ(anchored.size(), 6u);
   const geometry::Pose expected[] = {move1 * records[1].T_world_cam, move1 * records[2].T_world_cam,

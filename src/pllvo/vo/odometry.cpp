@@ -265,16 +265,15 @@ void Odometry::finish() {
 
 io::Trajectory Odometry::keyframe_trajectory() const {
   io::Trajectory traj;
-  map_.read([&](const MapData& m) {
-    for (const auto& [id, kf] : m.keyframes) traj.push_back(kf.timestamp, to_output(kf.T_world_cam));
-  });
+  for (const KeyframePose& kf : keyframe_poses()) traj.push_back(kf.timestamp, kf.T_world_cam);
   return traj;
 }
 
 std::vector<KeyframePose> Odometry::keyframe_poses() const {
   std::vector<KeyframePose> poses;
   map_.read([&](const MapData& m) {
-    for (const auto& [id, kf] : m.keyframes) poses.push_back({kf.frame_index, kf.segment, to_output(kf.T_world_cam)});
+    for (const auto& [id, kf] : m.keyframes)
+      poses.push_back({kf.frame_index, kf.timestamp, kf.segment, to_output(kf.T_world_cam)});
   });
   return poses;
 }

@@ -222,8 +222,10 @@ RunSummary OdometrySession::summary(const SessionSource& source, const std::opti
     summary.max_displacement =
         std::max(summary.max_displacement, (p - summary.trajectory.poses[0].translation()).norm());
   }
-  summary.anchored_trajectory = keyframe_anchored_trajectory(odometry.records(), odometry.keyframe_poses());
-  summary.keyframe_trajectory = odometry.keyframe_trajectory();
+  // One read of the keyframes for both: the worker may still move them between two reads.
+  const std::vector<KeyframePose> keyframes = odometry.keyframe_poses();
+  summary.anchored_trajectory = keyframe_anchored_trajectory(odometry.records(), keyframes);
+  for (const KeyframePose& kf : keyframes) summary.keyframe_trajectory.push_back(kf.timestamp, kf.T_world_cam);
   summary.keyframes = summary.keyframe_trajectory.size();
   summary.map = odometry.map_snapshot();
   if (replayed) {

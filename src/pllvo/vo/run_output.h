@@ -45,6 +45,7 @@ io::Trajectory tracked_trajectory(const std::vector<FrameRecord>& records);
 /// it was taken at.
 struct KeyframePose {
   size_t frame_index = 0;
+  double timestamp = 0;
   int segment = 0;
   geometry::Pose T_world_cam = geometry::Pose::Identity();
 };
