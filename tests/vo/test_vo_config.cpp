@@ -259,6 +259,7 @@ TEST(VoConfig, WorkerSpeedKeysAreReadAndChecked) {
       {"run:\n  network_threads: 0\n", "run.network_threads"},
       {"run:\n  keyframe_stages: 3\n", "run.keyframe_stages"},
       {"run:\n  keyframe_worker_nice: 20\n", "run.keyframe_worker_nice"},
+      {"run:\n  worker_catch_up_rounds: -1\n", "run.worker_catch_up_rounds"},
       {"run:\n  starving_points: -1\n", "run.starving_points"},
       {"run:\n  mono_starving_points: -1\n", "run.mono_starving_points"},
       {"run:\n  mono_noisy_starving_points: -1\n", "run.mono_noisy_starving_points"},

@@ -112,6 +112,20 @@ std::vector<std::pair<size_t, ImagePyramid>> Odometry::frames_from(const Keyfram
   return frames;
 }
 
+size_t Odometry::follow_to_newest(std::vector<std::pair<size_t, ImagePyramid>> frames, const FollowStep& step) const {
+  step(frames);
+  // A live tracker kept taking frames while the worker followed: what the worker follows now the
+  // tracker need not follow when it takes the result, on the frame a camera waits behind.
+  for (int round = 0; round < config_.run.worker_catch_up_rounds; ++round) {
+    std::vector<std::pair<size_t, ImagePyramid>> more = {frames.back()};
+    for (auto& f : pyramid_buffer_.from(frames.back().first + 1)) more.push_back(std::move(f));
+    if (more.size() < 2) break;
+    step(more);
+    frames = std::move(more);
+  }
+  return frames.back().first;
+}
+
 void Odometry::prepare_result(const KeyframeJob& job, KeyframeResult& result) const {
   auto point_id = [](const TrackedPoint& p) { return p.point; };
   auto line_id = [](const TrackedLine& l) { return l.line; };
@@ -121,9 +135,9 @@ void Odometry::prepare_result(const KeyframeJob& job, KeyframeResult& result) co
     if (!find_identity(point_index, r, point_id)) result.new_tracks.push_back(r);
   for (const auto& r : result.lines)
     if (!find_identity(line_index, r, line_id)) result.new_lines.push_back(r);
-  const auto frames = frames_from(job);
-  follow(frames, result.new_tracks, result.new_lines);
-  result.followed_frame = frames.back().first;
+  result.followed_frame = follow_to_newest(frames_from(job), [&](const auto& frames) {
+    follow(frames, result.new_tracks, result.new_lines);
+  });
 }
 
 void Odometry::apply_keyframe_results() {

@@ -187,6 +187,7 @@ void read_run(const ConfigNode& n, RunConfig& c) {
   n.get("network_threads", c.network_threads);
   n.get("keyframe_stages", c.keyframe_stages);
   n.get("keyframe_worker_nice", c.keyframe_worker_nice);
+  n.get("worker_catch_up_rounds", c.worker_catch_up_rounds);
   n.get("progress_interval_s", c.progress_interval_s);
   n.reject_unknown_keys();
 }
@@ -269,6 +270,8 @@ void VoConfig::validate(const std::filesystem::path& file) const {
           "must be positive");
   require(run.keyframe_stages == 1 || run.keyframe_stages == 2, file, "run.keyframe_stages", "must be 1 or 2");
   require(run.keyframe_worker_nice >= 0 && run.keyframe_worker_nice <= 19, file, "run.keyframe_worker_nice", "must be in [0, 19]");
+  require(run.worker_catch_up_rounds >= 0 && run.worker_catch_up_rounds <= 100, file, "run.worker_catch_up_rounds",
+          "must be in [0, 100]");
   require(klt.window_px >= 5 && klt.window_px % 2 == 1, file, "klt.window_px", "must be odd and >= 5");
   require(klt.levels >= 0 && klt.levels <= 6, file, "klt.levels", "must be in [0, 6]");
   require(klt.fb_threshold_px > 0, file, "klt.fb_threshold_px", "must be positive");

@@ -480,6 +480,13 @@ struct RunConfig {
   /// (0..19; 0: same priority), so a frame that arrives while a keyframe is being made is
   /// tracked at once instead of sharing a core with the networks.
   int keyframe_worker_nice = 10;
+  /// Threaded runs: after following a start's or a keyframe's new tracks up to the newest frame
+  /// the tracker had finished, the worker follows them through the frames the tracker finished
+  /// meanwhile, at most this many more times, so the tracker has at most a frame or two left to
+  /// follow itself when it takes the result (0: once, as far as the newest frame at the start).
+  /// Following is the tracker's own KLT on the same frames, so the tracks are the same either way;
+  /// only which thread spends the time changes (live TUM start: 4 frames, 77 ms, on the tracker).
+  int worker_catch_up_rounds = 8;
 };
 
 struct VoConfig {
