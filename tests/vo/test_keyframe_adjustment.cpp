@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -82,6 +83,33 @@ TEST(KeyframeAdjustment, PointsWithinTheGateOrAWorseMoveLeaveThePose) {
   EXPECT_FALSE(follow_keyframe_adjustment(camera(), off.points, off.pixels, added, added, adjusted, 4.0));
   // No points: nothing to decide on.
   EXPECT_FALSE(follow_keyframe_adjustment(camera(), {}, {}, added, added, adjusted, 4.0));
+}
+
+TEST(KeyframeAdjustment, MergedTracksThatMostlyMissTheTrackerGiveThePoseByPnp) {
+  // The keyframe's points, followed to now, are where the true camera sees them; the tracker's
+  // pose, from the few points a fast turn left it, is 2 deg and 3 cm off (~10 px at 2-4 m).
+  const geometry::Pose truth_now = pose(25, {0.6, 0.05, 0.3});
+  const geometry::Pose tracker_now = pose(27, {0.63, 0.05, 0.3});
+  const Scene s = scene_seen_from(truth_now);
+  ASSERT_GT(median_reprojection_px(camera(), s.points, s.pixels, tracker_now), 4.0);
+  const geometry::PnpConfig pnp;
+  const auto T = pose_of_merged_tracks(camera(), s.points, s.pixels, tracker_now, 4.0, pnp);
+  ASSERT_TRUE(T.has_value());
+  EXPECT_LT((T->translation() - truth_now.translation()).norm(), 1e-6);
+  EXPECT_LT(Eigen::AngleAxisd(T->linear().transpose() * truth_now.linear()).angle(), 1e-6);
+}
+
+TEST(KeyframeAdjustment, MergedTracksThatFitTheTrackerOrNoPoseLeaveIt) {
+  const geometry::Pose now = pose(25, {0.6, 0.05, 0.3});
+  const geometry::PnpConfig pnp;
+  // Most within the gate: the tracker's pose stays.
+  const Scene agree = scene_seen_from(now);
+  EXPECT_FALSE(pose_of_merged_tracks(camera(), agree.points, agree.pixels, now, 4.0, pnp));
+  // Tracks that no pose explains (each pixel paired with another point): no PnP pose.
+  Scene mixed = scene_seen_from(now);
+  std::reverse(mixed.pixels.begin(), mixed.pixels.end());
+  EXPECT_FALSE(pose_of_merged_tracks(camera(), mixed.points, mixed.pixels, pose(10, {0, 0, 0}), 4.0, pnp));
+  EXPECT_FALSE(pose_of_merged_tracks(camera(), {}, {}, now, 4.0, pnp));
 }
 
 }  // namespace

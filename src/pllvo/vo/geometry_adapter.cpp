@@ -157,6 +157,23 @@ std::optional<geometry::Pose> follow_keyframe_adjustment(const Pinhole& cam,
   return moved;
 }
 
+std::optional<geometry::Pose> pose_of_merged_tracks(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
+                                                    const std::vector<Eigen::Vector2d>& pixels,
+                                                    const geometry::Pose& T_world_current, double gate_px,
+                                                    const geometry::PnpConfig& config) {
+  auto within_gate = [&](const geometry::Pose& T) {
+    const std::vector<double> e = reprojection_errors_px(cam, points_world, pixels, T);
+    return static_cast<size_t>(std::count_if(e.begin(), e.end(), [gate_px](double x) { return x <= gate_px; }));
+  };
+  const size_t now = within_gate(T_world_current);
+  if (2 * now >= points_world.size()) return std::nullopt;
+  const PoseEstimate e = estimate_pose_pnp(cam, points_world, pixels, config);
+  if (!e.ok) return std::nullopt;
+  const size_t at_pnp = within_gate(e.T_world_cam);
+  if (at_pnp == 0 || at_pnp < 2 * now) return std::nullopt;
+  return e.T_world_cam;
+}
+
 geometry::Pose T_left_right(double baseline) {
   geometry::Pose T = geometry::Pose::Identity();
   T.translation() = Eigen::Vector3d(baseline, 0, 0);

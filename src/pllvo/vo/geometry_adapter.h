@@ -110,6 +110,14 @@ std::optional<geometry::Pose> follow_keyframe_adjustment(const Pinhole& cam,
                                                          const geometry::Pose& T_world_added,
                                                          const geometry::Pose& T_world_adjusted, double gate_px);
 
+/// When most of `points_world`, tracked at `pixels`, miss `T_world_current` by more than
+/// `gate_px`: their pose by PnP (`config`), if at least twice as many of them lie within the gate
+/// there and at least one does. Otherwise nullopt.
+std::optional<geometry::Pose> pose_of_merged_tracks(const Pinhole& cam, const std::vector<Eigen::Vector3d>& points_world,
+                                                    const std::vector<Eigen::Vector2d>& pixels,
+                                                    const geometry::Pose& T_world_current, double gate_px,
+                                                    const geometry::PnpConfig& config);
+
 /// Pose of the right rectified camera in the left one: +baseline along the left camera's x axis.
 geometry::Pose T_left_right(double baseline);
 

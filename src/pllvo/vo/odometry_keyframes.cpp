@@ -245,6 +245,15 @@ void Odometry::drop_inconsistent_tracks(std::vector<TrackedPoint>& tracks, const
       stats_.add_count("poses_moved_by_adjustment");
     }
   }
+  if (config_.pose.merge_pose_by_pnp) {
+    // The tracker's pose may rest on the few points a fast turn left it, the keyframe's on the
+    // many it was followed from.
+    if (const auto T = pose_of_merged_tracks(camera_, points, pixels, T_world_work_, gate, config_.geometry.pnp)) {
+      spdlog::debug("keyframe of frame {}: the current pose by PnP on the merged tracks", result.frame_index);
+      T_world_work_ = *T;
+      stats_.add_count("poses_from_merged_tracks");
+    }
+  }
   const std::vector<double> errors = reprojection_errors_px(camera_, points, pixels, T_world_work_);
   std::vector<TrackedPoint> kept;
   kept.reserve(tracks.size());

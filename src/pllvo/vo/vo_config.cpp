@@ -90,6 +90,7 @@ void read_pose(const ConfigNode& n, PoseConfig& c) {
   n.get("frame_corners", c.frame_corners);
   n.get("frame_corner_spacing_px", c.frame_corner_spacing_px);
   n.get("follow_keyframe_adjustment", c.follow_keyframe_adjustment);
+  n.get("merge_pose_by_pnp", c.merge_pose_by_pnp);
   n.get("min_inliers_with_prior", c.min_inliers_with_prior);
   n.get("stereo_pnp_min_inliers", c.stereo_pnp_min_inliers);
   n.get("stereo_min_inliers_with_prior", c.stereo_min_inliers_with_prior);

@@ -198,6 +198,12 @@ struct PoseConfig {
   /// 31-34 that way at starts 2 and 3; it fires about once a run (docs/vo.md). Needs
   /// the gate (merge_gate_px > 0).
   bool follow_keyframe_adjustment = true;
+  /// When most still miss, the pose by PnP (geometry.pnp) on the merged tracks' map points is
+  /// taken if at least twice as many of them lie within the gate there: in a fast turn the
+  /// tracker's pose may rest on the few points it still follows, while the keyframe's points were
+  /// followed from a frame that had many (live stereo difficult_normal, frame 42: 10 of 44 within
+  /// 4 px, then the map lost). Needs the gate.
+  bool merge_pose_by_pnp = true;
   /// Live input only (run.wait_when_starving off): a frame that follows fewer map points than
   /// run.starving_points (its mode's; not the noisy frames' higher count, where provisional
   /// points only added their depth's doubt) takes candidates into its pose too, each at a
