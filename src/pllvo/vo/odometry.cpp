@@ -263,11 +263,7 @@ void Odometry::finish() {
   if (state_ == TrackingState::kUninitialized && !records_.empty()) apply_start_outcome(previous_index_ + 1);
 }
 
-io::Trajectory Odometry::keyframe_trajectory() const {
-  io::Trajectory traj;
-  for (const KeyframePose& kf : keyframe_poses()) traj.push_back(kf.timestamp, kf.T_world_cam);
-  return traj;
-}
+io::Trajectory Odometry::keyframe_trajectory() const { return vo::keyframe_trajectory(keyframe_poses()); }
 
 std::vector<KeyframePose> Odometry::keyframe_poses() const {
   std::vector<KeyframePose> poses;

@@ -148,14 +148,13 @@ class Odometry {
   /// The buffered pyramids from frame `first` to the latest processed frame (empty when the
   /// buffer does not reach back to `first`).
   std::vector<std::pair<size_t, ImagePyramid>> buffered_since(size_t first) const;
-  /// `job`'s pyramid and the buffered ones of the frames after it: what a keyframe's or a
-  /// start's new tracks are followed through on the worker.
-  std::vector<std::pair<size_t, ImagePyramid>> frames_from(const KeyframeJob& job) const;
+  /// Frame `frame_index`'s `pyramid` and the buffered ones of the frames after it.
+  std::vector<std::pair<size_t, ImagePyramid>> frames_from(size_t frame_index, const ImagePyramid& pyramid) const;
   using FollowStep = std::function<void(const std::vector<std::pair<size_t, ImagePyramid>>&)>;
-  /// On the worker: `step` through `frames` (consecutive, non-empty), then through the frames the
-  /// tracker finished meanwhile, up to run.worker_catch_up_rounds times. Returns the last frame
-  /// followed.
-  size_t follow_to_newest(std::vector<std::pair<size_t, ImagePyramid>> frames, const FollowStep& step) const;
+  /// On the worker, what a keyframe's or a start's new tracks are followed through: `step`
+  /// through `job`'s frame and the buffered ones after it, then through the frames the tracker
+  /// finished meanwhile, up to run.worker_catch_up_rounds times. Returns the last frame followed.
+  size_t follow_to_newest(const KeyframeJob& job, const FollowStep& step) const;
   /// track(); when the pose fails, handle_lost() and (stereo, pose.stereo_restart_at_once) a
   /// new map on this frame when it relocalises in the old one; it then counts as tracked.
   bool track_or_restart(const io::Frame& frame, const cv::Mat& left, const cv::Mat& right,

@@ -106,19 +106,20 @@ std::vector<std::pair<size_t, ImagePyramid>> Odometry::buffered_since(size_t fir
   return frames;
 }
 
-std::vector<std::pair<size_t, ImagePyramid>> Odometry::frames_from(const KeyframeJob& job) const {
-  std::vector<std::pair<size_t, ImagePyramid>> frames = {{job.frame_index, job.left_pyramid}};
-  for (auto& f : pyramid_buffer_.from(job.frame_index + 1)) frames.push_back(std::move(f));
+std::vector<std::pair<size_t, ImagePyramid>> Odometry::frames_from(size_t frame_index,
+                                                                   const ImagePyramid& pyramid) const {
+  std::vector<std::pair<size_t, ImagePyramid>> frames = {{frame_index, pyramid}};
+  for (auto& f : pyramid_buffer_.from(frame_index + 1)) frames.push_back(std::move(f));
   return frames;
 }
 
-size_t Odometry::follow_to_newest(std::vector<std::pair<size_t, ImagePyramid>> frames, const FollowStep& step) const {
+size_t Odometry::follow_to_newest(const KeyframeJob& job, const FollowStep& step) const {
+  std::vector<std::pair<size_t, ImagePyramid>> frames = frames_from(job.frame_index, job.left_pyramid);
   step(frames);
   // A live tracker kept taking frames while the worker followed: what the worker follows now the
   // tracker need not follow when it takes the result, on the frame a camera waits behind.
   for (int round = 0; round < config_.run.worker_catch_up_rounds; ++round) {
-    std::vector<std::pair<size_t, ImagePyramid>> more = {frames.back()};
-    for (auto& f : pyramid_buffer_.from(frames.back().first + 1)) more.push_back(std::move(f));
+    std::vector<std::pair<size_t, ImagePyramid>> more = frames_from(frames.back().first, frames.back().second);
     if (more.size() < 2) break;
     step(more);
     frames = std::move(more);
@@ -135,7 +136,7 @@ void Odometry::prepare_result(const KeyframeJob& job, KeyframeResult& result) co
     if (!find_identity(point_index, r, point_id)) result.new_tracks.push_back(r);
   for (const auto& r : result.lines)
     if (!find_identity(line_index, r, line_id)) result.new_lines.push_back(r);
-  result.followed_frame = follow_to_newest(frames_from(job), [&](const auto& frames) {
+  result.followed_frame = follow_to_newest(job, [&](const auto& frames) {
     follow(frames, result.new_tracks, result.new_lines);
   });
 }

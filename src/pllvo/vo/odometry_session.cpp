@@ -225,7 +225,7 @@ RunSummary OdometrySession::summary(const SessionSource& source, const std::opti
   // One read of the keyframes for both: the worker may still move them between two reads.
   const std::vector<KeyframePose> keyframes = odometry.keyframe_poses();
   summary.anchored_trajectory = keyframe_anchored_trajectory(odometry.records(), keyframes);
-  for (const KeyframePose& kf : keyframes) summary.keyframe_trajectory.push_back(kf.timestamp, kf.T_world_cam);
+  summary.keyframe_trajectory = keyframe_trajectory(keyframes);
   summary.keyframes = summary.keyframe_trajectory.size();
   summary.map = odometry.map_snapshot();
   if (replayed) {

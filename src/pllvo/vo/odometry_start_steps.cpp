@@ -62,7 +62,7 @@ void Odometry::catch_up_on_worker(const KeyframeJob& job, StartOutcome& outcome)
   KeyframeResult& result = outcome.result;
   result.new_tracks = result.tracks;
   result.new_lines = result.lines;
-  result.followed_frame = follow_to_newest(frames_from(job), [&](const auto& frames) {
+  result.followed_frame = follow_to_newest(job, [&](const auto& frames) {
     follow_and_locate(frames, result.new_tracks, result.new_lines, outcome.poses);
   });
 }
@@ -83,8 +83,7 @@ void Odometry::submit_start_detection(const io::Frame& frame, const cv::Mat& lef
       }
     }
     std::vector<cv::Point2f> positions = features.points;
-    follow_to_newest(frames_from(*job),
-                     [&](const auto& frames) { follow_positions(frames, positions, outcome.followed); });
+    follow_to_newest(*job, [&](const auto& frames) { follow_positions(frames, positions, outcome.followed); });
     outcome.features = std::move(features);
     return outcome;
   });

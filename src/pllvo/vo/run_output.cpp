@@ -69,6 +69,12 @@ io::Trajectory tracked_trajectory(const std::vector<FrameRecord>& records) {
   return traj;
 }
 
+io::Trajectory keyframe_trajectory(const std::vector<KeyframePose>& keyframes) {
+  io::Trajectory traj;
+  for (const KeyframePose& kf : keyframes) traj.push_back(kf.timestamp, kf.T_world_cam);
+  return traj;
+}
+
 io::Trajectory keyframe_anchored_trajectory(const std::vector<FrameRecord>& records,
                                             std::vector<KeyframePose> keyframes) {
   std::unordered_map<size_t, const FrameRecord*> by_index;

@@ -49,6 +49,8 @@ struct KeyframePose {
   int segment = 0;
   geometry::Pose T_world_cam = geometry::Pose::Identity();
 };
+/// The keyframes' poses as a trajectory (keyframes.tum).
+io::Trajectory keyframe_trajectory(const std::vector<KeyframePose>& keyframes);
 /// The tracked frames, each placed where its tracked pose relative to its keyframe (the last
 /// one of its map segment taken at or before it) puts it from that keyframe's final pose: the
 /// trajectory with the bundle adjustment's corrections carried to every frame (how ORB-SLAM3
