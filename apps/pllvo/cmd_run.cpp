@@ -154,13 +154,18 @@ void print_summary(const vo::RunSummary& s, const std::string& format, const std
   for (const auto& l : s.lost)
     std::printf("  not tracked: frames %zu-%zu (t %.3f-%.3f s)\n", l.first_frame, l.last_frame, l.first_time,
                 l.last_time);
-  if (s.live)
+  if (s.live) {
+    const auto& rt = s.stats["realtime"];
     std::printf("realtime at %.2fx: %zu of %zu frames dropped (%.1f %%), latency mean %.0f ms, p95 %.0f ms, max %.0f ms, "
                 "%lld keyframes requested while the worker was busy\n",
                 s.live->speed, s.live->dropped_frames.size(), s.frames,
                 s.frames ? 100.0 * s.live->dropped_frames.size() / s.frames : 0.0, 1e3 * s.live->latency_s.mean,
                 1e3 * s.live->latency_s.p95, 1e3 * s.live->latency_s.max,
-                s.stats["realtime"]["keyframes_requested_while_busy"].get<long long>());
+                rt["keyframes_requested_while_busy"].get<long long>());
+    if (rt.value("keyframe_return_frames_mean", nlohmann::json()).is_number())
+      std::printf("keyframes came back %.1f frames (%.0f ms) after their request on average\n",
+                  rt["keyframe_return_frames_mean"].get<double>(), rt["keyframe_return_ms_mean"].get<double>());
+  }
   std::printf("estimated path %.3f, largest distance from the start %.4f (%s)\n", s.path_length,
               s.max_displacement, s.metric() ? "metres" : "map units");
   if (s.error) {

@@ -155,12 +155,14 @@ TEST(BenchTable, OneRowPerCellPlusMeansWithMedianAndSpread) {
 
 TEST(BenchTable, RealtimeRunsAddDroppedFramesAndLatency) {
   const auto stats = nlohmann::json::parse(R"({"frames": 200, "tracked_frames": 190,
-    "realtime": {"frames_dropped": 10, "latency_mean_ms": 42.5, "latency_p95_ms": 90.0}})");
+    "realtime": {"frames_dropped": 10, "latency_mean_ms": 42.5, "latency_p95_ms": 90.0,
+                 "keyframe_return_frames_mean": 6.5}})");
   RunMetrics m;
   add_stats(stats, m);
   EXPECT_DOUBLE_EQ(m.dropped_share, 0.05);
   EXPECT_DOUBLE_EQ(m.latency_mean_ms, 42.5);
   EXPECT_DOUBLE_EQ(m.latency_p95_ms, 90.0);
+  EXPECT_DOUBLE_EQ(m.keyframe_return_frames, 6.5);
   RunMetrics offline;
   add_stats(nlohmann::json::parse(R"({"frames": 200})"), offline);
   EXPECT_TRUE(std::isnan(offline.dropped_share));
@@ -168,9 +170,13 @@ TEST(BenchTable, RealtimeRunsAddDroppedFramesAndLatency) {
   auto r = fake_result();
   EXPECT_EQ(format_bench_table(r).find("dropped %"), std::string::npos);
   r.realtime = true;
-  for (auto& c : r.cells) c.stats["dropped_share"] = {0.05, 0, 3}, c.stats["latency_mean_ms"] = {42.5, 1, 3};
+  for (auto& c : r.cells)
+    c.stats["dropped_share"] = {0.05, 0, 3}, c.stats["latency_mean_ms"] = {42.5, 1, 3},
+    c.stats["keyframe_return_frames"] = {6.5, 0, 3};
   const std::string t = format_bench_table(r);
   EXPECT_NE(t.find("dropped %"), std::string::npos) << t;
+  EXPECT_NE(t.find("kf back"), std::string::npos) << t;
+  EXPECT_NE(t.find(" 6.5 "), std::string::npos) << t;
   EXPECT_NE(t.find(" 5.0 "), std::string::npos) << t;
   EXPECT_NE(t.find("42.5"), std::string::npos) << t;
 }

@@ -49,6 +49,7 @@ std::map<std::string, double> RunMetrics::values() const {
       {"dropped_share", dropped_share},
       {"latency_mean_ms", latency_mean_ms},
       {"latency_p95_ms", latency_p95_ms},
+      {"keyframe_return_frames", keyframe_return_frames},
   };
   for (const auto& t : module_timers()) {
     const auto it = module_ms.find(t.column);
@@ -107,6 +108,7 @@ void add_stats(const nlohmann::json& stats, RunMetrics& m) {
     m.dropped_share = m.frames > 0 ? number(live, "frames_dropped") / m.frames : NAN;
     m.latency_mean_ms = number(live, "latency_mean_ms");
     m.latency_p95_ms = number(live, "latency_p95_ms");
+    m.keyframe_return_frames = number(live, "keyframe_return_frames_mean");
   }
   for (const auto& t : module_timers()) {
     double sum = 0;

@@ -39,8 +39,9 @@ struct RunMetrics {
   /// LightGlue's adaptivity over the run's keyframe matches: mean layers run before the
   /// confidence exit, mean share of points pruned (NaN for matchers without it).
   double matcher_layers_mean = NAN, matcher_pruned_share = NAN;
-  /// Live-rate runs (stats.json `realtime`): share of frames dropped, latency arrival to pose.
-  double dropped_share = NAN, latency_mean_ms = NAN, latency_p95_ms = NAN;
+  /// Live-rate runs (stats.json `realtime`): share of frames dropped, latency arrival to pose,
+  /// frames the tracker took between a keyframe's request and its result (mean).
+  double dropped_share = NAN, latency_mean_ms = NAN, latency_p95_ms = NAN, keyframe_return_frames = NAN;
 
   bool ok() const { return error.empty(); }
   /// Every number by name (the bench aggregates them alike).

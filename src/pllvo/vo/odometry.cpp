@@ -1,5 +1,7 @@
 #include "pllvo/vo/odometry.h"
 
+#include <array>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -243,16 +245,37 @@ void Odometry::submit_keyframe(KeyframeJob job) {
   // Two parts (KeyframeWorker): detection, then the rest with what it found.
   auto shared_job = std::make_shared<const KeyframeJob>(std::move(job));
   auto detected = std::make_shared<DetectedKeyframe>();
-  worker_.submit([this, shared_job, detected] { *detected = processor_.detect_keyframe(*shared_job); },
-                 [this, shared_job, detected] {
-                   KeyframeResult result = processor_.process(*shared_job, std::move(*detected));
-                   if (result.ok) {
-                     ScopedTimer t(stats_, "kf_catch_up");
-                     prepare_result(*shared_job, result);
-                   }
-                   std::lock_guard<std::mutex> lock(results_mutex_);
-                   results_.push_back(std::move(result));
-                 });
+  // Where a keyframe's time goes between its request and its result: queued behind another,
+  // detection, waiting for the second stage, the rest of the keyframe, following to the newest frame.
+  using Clock = std::chrono::steady_clock;
+  auto times = std::make_shared<std::array<Clock::time_point, 5>>();
+  (*times)[0] = Clock::now();
+  keyframe_requested_at_[shared_job->frame_index] = (*times)[0];
+  worker_.submit(
+      [this, shared_job, detected, times] {
+        (*times)[1] = Clock::now();
+        *detected = processor_.detect_keyframe(*shared_job);
+        (*times)[2] = Clock::now();
+      },
+      [this, shared_job, detected, times] {
+        (*times)[3] = Clock::now();
+        KeyframeResult result = processor_.process(*shared_job, std::move(*detected));
+        (*times)[4] = Clock::now();
+        if (result.ok) {
+          ScopedTimer t(stats_, "kf_catch_up");
+          prepare_result(*shared_job, result);
+        }
+        auto ms = [](Clock::time_point a, Clock::time_point b) {
+          return std::chrono::duration<double, std::milli>(b - a).count();
+        };
+        const auto& at = *times;
+        spdlog::debug("keyframe of frame {}: queued {:.0f} ms, detection {:.0f}, to the second stage {:.0f}, "
+                      "matching to BA {:.0f}, following {:.0f} ms",
+                      shared_job->frame_index, ms(at[0], at[1]), ms(at[1], at[2]), ms(at[2], at[3]),
+                      ms(at[3], at[4]), ms(at[4], Clock::now()));
+        std::lock_guard<std::mutex> lock(results_mutex_);
+        results_.push_back(std::move(result));
+      });
 }
 
 void Odometry::finish() {

@@ -2,7 +2,9 @@
 // The visual odometry: per-frame tracking on the caller's thread (KLT of the keyframe's
 // points, PnP + RANSAC, robust refinement, keyframe decision), keyframe processing on a
 // worker thread (or inline in single-thread mode), re-initialisation after a loss.
+#include <chrono>
 #include <deque>
+#include <map>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -336,6 +338,9 @@ class Odometry {
   std::mutex results_mutex_;
   std::deque<KeyframeResult> results_;
   std::set<size_t> pending_keyframe_frames_;
+  /// When each pending keyframe was asked for: its return time and the frames that passed
+  /// meanwhile are the keyframe's age when it reaches the tracker (stats: keyframe_return_*).
+  std::map<size_t, std::chrono::steady_clock::time_point> keyframe_requested_at_;
   /// Pyramids of the frames since the oldest pending keyframe; the worker reads them to bring
   /// a finished keyframe's new points up to date before handing it back.
   class PyramidBuffer {

@@ -149,6 +149,12 @@ void Odometry::apply_keyframe_results() {
   }
   for (auto& result : ready) {
     pending_keyframe_frames_.erase(result.frame_index);
+    if (const auto it = keyframe_requested_at_.find(result.frame_index); it != keyframe_requested_at_.end()) {
+      stats_.add_sample("keyframe_return_ms", std::chrono::duration<double, std::milli>(
+                                                  std::chrono::steady_clock::now() - it->second).count());
+      stats_.add_sample("keyframe_return_frames", static_cast<double>(previous_index_ - result.frame_index));
+      keyframe_requested_at_.erase(it);
+    }
     if (!result.ok || state_ != TrackingState::kTracking) continue;
     ScopedTimer t(stats_, "catch_up");
 

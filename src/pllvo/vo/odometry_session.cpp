@@ -284,6 +284,12 @@ RunSummary OdometrySession::summary(const SessionSource& source, const std::opti
                      {"latency_p95_ms", 1e3 * live.latency_s.p95},
                      {"latency_max_ms", 1e3 * live.latency_s.max},
                      {"keyframes_requested_while_busy", stats_.count("keyframes_requested_while_busy")}};
+    // How stale a keyframe is when the tracker takes it: its request to its result.
+    for (const char* name : {"keyframe_return_frames", "keyframe_return_ms"}) {
+      const auto& per_frame = j["per_frame"];
+      const bool any = per_frame.contains(name) && per_frame[name].contains("mean");
+      j["realtime"][std::string(name) + "_mean"] = any ? per_frame[name]["mean"] : nlohmann::json(nullptr);
+    }
   }
   summary.stats = j;
   return summary;

@@ -246,6 +246,7 @@ void Odometry::reset() {
     results_.clear();
   }
   pending_keyframe_frames_.clear();
+  keyframe_requested_at_.clear();
   pyramid_buffer_.clear();
   tracks_.clear();
   line_tracks_.clear();
