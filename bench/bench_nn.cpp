@@ -51,7 +51,7 @@ struct Inputs {
     const SuperPoint random(SafeTensors::load(dir / "superpoint_random_weights.safetensors"), {});
     const cv::Mat a = cv::imread((dir / "icl250_640x480.png").string(), cv::IMREAD_GRAYSCALE);
     const cv::Mat b = cv::imread((dir / "icl254_640x480.png").string(), cv::IMREAD_GRAYSCALE);
-    for (const int k : {512, 1024}) pairs[k] = {random.detect(a, 0.0f, k), random.detect(b, 0.0f, k)};
+    for (const int k : {128, 512, 1024}) pairs[k] = {random.detect(a, 0.0f, k), random.detect(b, 0.0f, k)};
   }
   static Inputs& get() {
     static Inputs inputs;
@@ -135,7 +135,7 @@ void BM_LightGlue(benchmark::State& state) {
                         static_cast<double>(r.prune0.size() + r.prune1.size());
   state.counters["pruned_share"] = pruned;
 }
-BENCHMARK(BM_LightGlue)->ArgNames({"keypoints", "adaptive", "threads"})->ArgsProduct({{512, 1024}, {0, 1}, {1, 2}})
+BENCHMARK(BM_LightGlue)->ArgNames({"keypoints", "adaptive", "threads"})->ArgsProduct({{128, 512, 1024}, {0, 1}, {1, 2}})
     ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
 
 // Multiply-adds x 2 of LightGlue's full forward pass (no early exit, no pruning) with n0 and n1
