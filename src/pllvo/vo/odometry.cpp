@@ -1,8 +1,7 @@
 #include "pllvo/vo/odometry.h"
 
-#include <array>
-
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <optional>
@@ -17,7 +16,25 @@
 #include "pllvo/vo/odometry_detail.h"
 
 namespace pllvo::vo {
+
 namespace {
+
+/// Where a keyframe's time goes between its request and its result (`pllvo -v`): queued behind
+/// another, detection, waiting for the second stage, matching to BA, following to the newest frame.
+struct KeyframeTimeline {
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point requested = Clock::now(), detection_start, detection_end, process_start, process_end;
+
+  void log(size_t frame_index) const {
+    auto ms = [](Clock::time_point a, Clock::time_point b) {
+      return std::chrono::duration<double, std::milli>(b - a).count();
+    };
+    spdlog::debug("keyframe of frame {}: queued {:.0f} ms, detection {:.0f}, to the second stage {:.0f}, "
+                  "matching to BA {:.0f}, following {:.0f} ms",
+                  frame_index, ms(requested, detection_start), ms(detection_start, detection_end),
+                  ms(detection_end, process_start), ms(process_start, process_end), ms(process_end, Clock::now()));
+  }
+};
 
 /// Keyframe jobs allowed in flight (running + queued) before a new one is deferred:
 /// the tracker never waits, and a slow back end does not pile up stale keyframes.
@@ -245,34 +262,23 @@ void Odometry::submit_keyframe(KeyframeJob job) {
   // Two parts (KeyframeWorker): detection, then the rest with what it found.
   auto shared_job = std::make_shared<const KeyframeJob>(std::move(job));
   auto detected = std::make_shared<DetectedKeyframe>();
-  // Where a keyframe's time goes between its request and its result: queued behind another,
-  // detection, waiting for the second stage, the rest of the keyframe, following to the newest frame.
-  using Clock = std::chrono::steady_clock;
-  auto times = std::make_shared<std::array<Clock::time_point, 5>>();
-  (*times)[0] = Clock::now();
-  keyframe_requested_at_[shared_job->frame_index] = (*times)[0];
+  auto timeline = std::make_shared<KeyframeTimeline>();
+  keyframe_requested_at_[shared_job->frame_index] = timeline->requested;
   worker_.submit(
-      [this, shared_job, detected, times] {
-        (*times)[1] = Clock::now();
+      [this, shared_job, detected, timeline] {
+        timeline->detection_start = KeyframeTimeline::Clock::now();
         *detected = processor_.detect_keyframe(*shared_job);
-        (*times)[2] = Clock::now();
+        timeline->detection_end = KeyframeTimeline::Clock::now();
       },
-      [this, shared_job, detected, times] {
-        (*times)[3] = Clock::now();
+      [this, shared_job, detected, timeline] {
+        timeline->process_start = KeyframeTimeline::Clock::now();
         KeyframeResult result = processor_.process(*shared_job, std::move(*detected));
-        (*times)[4] = Clock::now();
+        timeline->process_end = KeyframeTimeline::Clock::now();
         if (result.ok) {
           ScopedTimer t(stats_, "kf_catch_up");
           prepare_result(*shared_job, result);
         }
-        auto ms = [](Clock::time_point a, Clock::time_point b) {
-          return std::chrono::duration<double, std::milli>(b - a).count();
-        };
-        const auto& at = *times;
-        spdlog::debug("keyframe of frame {}: queued {:.0f} ms, detection {:.0f}, to the second stage {:.0f}, "
-                      "matching to BA {:.0f}, following {:.0f} ms",
-                      shared_job->frame_index, ms(at[0], at[1]), ms(at[1], at[2]), ms(at[2], at[3]),
-                      ms(at[3], at[4]), ms(at[4], Clock::now()));
+        timeline->log(shared_job->frame_index);
         std::lock_guard<std::mutex> lock(results_mutex_);
         results_.push_back(std::move(result));
       });

@@ -4,8 +4,8 @@
 // worker thread (or inline in single-thread mode), re-initialisation after a loss.
 #include <chrono>
 #include <deque>
-#include <map>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
