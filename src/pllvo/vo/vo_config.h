@@ -484,8 +484,9 @@ struct RunConfig {
   int keyframe_stages = 2;
   /// Threaded runs: the keyframe worker's threads run this many nice levels below the caller
   /// (0..19; 0: same priority), so a frame that arrives while a keyframe is being made is
-  /// tracked at once instead of sharing a core with the networks.
-  int keyframe_worker_nice = 10;
+  /// tracked at once instead of sharing a core with the networks. Nice levels are machine-wide:
+  /// a larger value also starves the worker beside other busy processes (docs/vo.md).
+  int keyframe_worker_nice = 3;
   /// Threaded runs: after following a start's or a keyframe's new tracks up to the newest frame
   /// the tracker had finished, the worker follows them through the frames the tracker finished
   /// meanwhile, at most this many more times, so the tracker has at most a frame or two left to
