@@ -7,30 +7,12 @@
 
 #include <spdlog/spdlog.h>
 
-#include "pllvo/vo/stereo_row_match.h"
+#include "pllvo/vo/stereo_depth.h"
 
 namespace pllvo::vo {
 namespace {
 
 Eigen::Vector2d to_eigen(const cv::Point2f& p) { return {p.x, p.y}; }
-
-/// The depth image's value (metres) at the pixel nearest `px` when it is a measurement in the
-/// config's range, else 0; NaN when its 3x3 neighbourhood's valid depths spread by more than
-/// max_local_spread of it (a depth edge).
-float depth_at(const cv::Mat& depth, const cv::Point2f& px, const DepthConfig& config) {
-  const int x = static_cast<int>(std::lround(px.x)), y = static_cast<int>(std::lround(px.y));
-  if (x < 0 || y < 0 || x >= depth.cols || y >= depth.rows) return 0;
-  const auto valid = [&](float d) { return std::isfinite(d) && d >= config.min_m && d <= config.max_m; };
-  const float d = depth.at<float>(y, x);
-  if (!valid(d)) return 0;
-  float lo = d, hi = d;
-  for (int v = std::max(0, y - 1); v <= std::min(depth.rows - 1, y + 1); ++v)
-    for (int u = std::max(0, x - 1); u <= std::min(depth.cols - 1, x + 1); ++u) {
-      const float n = depth.at<float>(v, u);
-      if (valid(n)) lo = std::min(lo, n), hi = std::max(hi, n);
-    }
-  return hi - lo > config.max_local_spread * d ? NAN : d;
-}
 
 /// Pixel pairs of the same points in the previous keyframe and this one, for line
 /// association: shared map points, candidates tracked from it, and descriptor matches.
@@ -121,46 +103,19 @@ std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::stereo_points(con
   ScopedTimer t(stats_, "kf_stereo");
   std::vector<std::optional<Eigen::Vector3d>> out(features.size());
   right_px.assign(features.size(), cv::Point2f(NAN, NAN));
-  if (job.right.empty()) return out;
-  std::vector<int> which;
-  std::vector<cv::Point2f> pts;
-  for (int i = 0; i < static_cast<int>(features.size()); ++i) which.push_back(i), pts.push_back(features.points[i]);
-  if (pts.empty()) return out;
+  if (job.right.empty() || features.empty()) return out;
   const ImagePyramid left = job.left_pyramid.empty() ? klt_.build_pyramid(job.left) : job.left_pyramid;
-  const ImagePyramid right = klt_.build_pyramid(job.right);
-  TrackResult tr = klt_.track(left, right, pts);
-  StereoRowMatchConfig row;
-  row.window_px = config_.klt.window_px;
-  row.min_horizontal_share = config_.klt.stereo_min_horizontal_share;
-  int row_rejects = 0, depth_rejects = 0, matched = 0;
-  for (size_t k = 0; k < which.size(); ++k) {
-    if (!tr.ok[k]) continue;
-    if (row.min_horizontal_share > 0) {
-      const auto x = refine_along_row(job.left, job.right, pts[k], tr.points[k].x, row);
-      if (!x) {
-        ++row_rejects;
-        continue;
-      }
-      tr.points[k] = cv::Point2f(*x, pts[k].y);
-    }
-    // The measured disparity plus the pair's offset estimated by the BA (the match itself
-    // stays as measured: it is the BA's observation).
-    const Eigen::Vector2d right_corrected = to_eigen(tr.points[k]) - Eigen::Vector2d(stereo_offset_px_, 0);
-    const auto p = triangulate_stereo(camera_, baseline_, to_eigen(pts[k]), right_corrected, config_.geometry.stereo);
-    if (!p) {
-      ++depth_rejects;
-      continue;
-    }
-    ++matched;
-    right_px[which[k]] = tr.points[k];
-    if (ids[which[k]] == kNoId) out[which[k]] = p;
-  }
-  if (row_rejects > 0) stats_.add_count("stereo_row_rejects", row_rejects);
+  StereoDepths sd = stereo_depths(klt_, left, job.left, job.right, features.points, camera_, baseline_,
+                                  stereo_offset_px_, stereo_row_match(config_), config_.geometry.stereo);
+  right_px = std::move(sd.right_px);
+  for (size_t i = 0; i < features.size(); ++i)
+    if (ids[i] == kNoId) out[i] = sd.points[i];
+  if (sd.row_rejects > 0) stats_.add_count("stereo_row_rejects", sd.row_rejects);
+  const auto& lk = sd.lk_rejected;
   spdlog::debug("frame {}: stereo depth for {} of {} features; lost: right-image LK {} (status {}, border {}, "
-                "forward-backward {}, appearance {}), row refinement {}, depth check {}", job.frame_index, matched,
-                pts.size(), tr.rejected.lk + tr.rejected.border + tr.rejected.forward_backward + tr.rejected.appearance,
-                tr.rejected.lk, tr.rejected.border, tr.rejected.forward_backward, tr.rejected.appearance, row_rejects,
-                depth_rejects);
+                "forward-backward {}, appearance {}), row refinement {}, depth check {}", job.frame_index, sd.matched,
+                features.size(), lk.lk + lk.border + lk.forward_backward + lk.appearance, lk.lk, lk.border,
+                lk.forward_backward, lk.appearance, sd.row_rejects, sd.depth_rejects);
   return out;
 }
 
@@ -520,6 +475,7 @@ KeyframeResult KeyframeProcessor::process(const KeyframeJob& original_job, Detec
       stats_.add_count("ba_line_outliers", ba.line_outliers);
     }
   }
+  result.stereo_offset_px = stereo_offset_px_;
 
   map_.read([&](const MapData& m) {
     const auto& kf = m.keyframes.at(kid);

@@ -71,6 +71,7 @@ struct KeyframeResult {
   int matches = 0;                   ///< features linked to the previous keyframe (KLT tracks + matcher)
   int new_points = 0;
   int created_lines = 0;
+  double stereo_offset_px = 0;  ///< the stereo pair's offset after this keyframe's window BA
 };
 
 struct DetectedKeyframe {

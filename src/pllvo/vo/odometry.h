@@ -222,10 +222,18 @@ class Odometry {
   /// Follows the tracker's own corners (pose.frame_corners) into `pyramid`, predicted at
   /// `T_pred_world` where they have a position; those KLT loses are dropped.
   void follow_corners(const ImagePyramid& pyramid, const geometry::Pose& T_pred_world);
-  /// After a tracked frame: every corner triangulated from its first view and this pose, and,
-  /// when the frame follows fewer than `starving` map points, new corners found in `image`.
-  void refresh_corners(const cv::Mat& image, int map_inliers);
+  /// After a tracked frame: monocular, every corner triangulated from its first view and this
+  /// pose; and, when the frame follows fewer than run.starving_points map points, new corners
+  /// found in `pyramid`'s image (metric maps: only those with a stereo or depth measurement here).
+  void refresh_corners(const ImagePyramid& pyramid, const cv::Mat& right, int map_inliers);
+  /// Metric maps: each of `found` in this frame's right image or depth, in the world at this
+  /// frame's pose (nullopt where it has none).
+  std::vector<std::optional<Eigen::Vector3d>> measure_corner_depths(const ImagePyramid& pyramid, const cv::Mat& right,
+                                                                    const std::vector<cv::Point2f>& found);
   bool uses_frame_corners() const;
+  /// When a keyframe's merge moves the current pose (T_new = T_new_old * T_old), the corners
+  /// move with it: they stay where the camera sees them.
+  void move_corners(const geometry::Pose& T_new_old);
   /// Whether this frame follows fewer map points than plain_scene.max_tracked_points.
   bool plain_frame() const;
   void set_reference_lines(const std::vector<TrackedLine>& lines);
@@ -293,6 +301,8 @@ class Odometry {
   std::vector<TrackedPoint> tracks_;
   std::vector<TrackedLine> line_tracks_;
   std::vector<FrameCorner> corners_;  ///< pose.frame_corners: live input only
+  /// The stereo pair's offset as the latest keyframe's window BA left it (KeyframeResult).
+  double stereo_offset_px_ = 0;
   lines::OverlapAngleSet reference_angles_;  ///< of the current keyframe's lines
   /// The KLT reference: the latest frame, unless it failed (pose.keep_reference_over_failed_frames).
   ImagePyramid previous_pyramid_;

@@ -4,15 +4,15 @@
 #include "pllvo/common/statistics.h"
 #include "pllvo/vo/odometry.h"
 #include "pllvo/vo/odometry_detail.h"
+#include "pllvo/vo/stereo_depth.h"
 
 namespace pllvo::vo {
 
 using namespace odometry_detail;
 
 bool Odometry::uses_frame_corners() const {
-  // Monocular only: a metric map's keyframes bring stereo or depth points, and two-frame depths
-  // made its live poses worse (docs/vo.md).
-  return makes_provisional_points() && config_.pose.frame_corners > 0 && !metric();
+  // pose.frame_corners is the mode's: pose.stereo_frame_corners for a metric map (VoConfig::for_mode).
+  return makes_provisional_points() && config_.pose.frame_corners > 0;
 }
 
 void Odometry::follow_corners(const ImagePyramid& pyramid, const geometry::Pose& T_pred_world) {
@@ -33,21 +33,67 @@ void Odometry::follow_corners(const ImagePyramid& pyramid, const geometry::Pose&
   corners_ = std::move(kept);
 }
 
-void Odometry::refresh_corners(const cv::Mat& image, int map_inliers) {
+void Odometry::refresh_corners(const ImagePyramid& pyramid, const cv::Mat& right, int map_inliers) {
   if (!uses_frame_corners()) return;
-  ScopedTimer t(stats_, "frame_corners");
-  for (FrameCorner& c : corners_)
-    c.position = triangulate_point(camera_, {c.T_world_first, T_world_work_}, {c.first_px, to_eigen(c.px)},
-                                   config_.geometry.point_triangulation);
+  ScopedTimer t(stats_, "frame_corner_search");
+  if (metric()) {
+    // A metric corner keeps the position measured where it was found; one the pose refused goes.
+    std::erase_if(corners_, [](const FrameCorner& c) { return !c.position; });
+  } else {
+    for (FrameCorner& c : corners_)
+      c.position = triangulate_point(camera_, {c.T_world_first, T_world_work_}, {c.first_px, to_eigen(c.px)},
+                                     config_.geometry.point_triangulation);
+  }
   const int room = config_.pose.frame_corners - static_cast<int>(corners_.size());
   if (map_inliers >= config_.run.starving_points || room <= 0) return;
   std::vector<cv::Point2f> occupied;
   for (const TrackedPoint& tp : tracks_) occupied.push_back(tp.px);
   for (const FrameCorner& c : corners_) occupied.push_back(c.px);
-  const auto found = detect_free_corners(image, occupied, room, config_.pose.frame_corner_spacing_px);
-  for (const auto& p : found) corners_.push_back({p, T_world_work_, to_eigen(p), std::nullopt});
-  stats_.add_count("frame_corners_found", static_cast<long long>(found.size()));
-  spdlog::debug("{} corners found between keyframes ({} followed)", found.size(), corners_.size());
+  const auto found = detect_free_corners(pyramid.image, occupied, room, config_.pose.frame_corner_spacing_px);
+  std::vector<std::optional<Eigen::Vector3d>> positions(found.size());
+  if (metric()) {
+    ScopedTimer depth_timer(stats_, "frame_corner_depth");
+    positions = measure_corner_depths(pyramid, right, found);
+  }
+  int added = 0;
+  for (size_t k = 0; k < found.size(); ++k) {
+    if (metric() && !positions[k]) continue;
+    corners_.push_back({found[k], T_world_work_, to_eigen(found[k]), positions[k]});
+    ++added;
+  }
+  stats_.add_count("frame_corners_found", added);
+  spdlog::debug("{} corners found between keyframes ({} followed)", added, corners_.size());
+}
+
+void Odometry::move_corners(const geometry::Pose& T_new_old) {
+  for (FrameCorner& c : corners_) {
+    c.T_world_first = T_new_old * c.T_world_first;
+    if (c.position) c.position = T_new_old * *c.position;
+  }
+}
+
+std::vector<std::optional<Eigen::Vector3d>> Odometry::measure_corner_depths(const ImagePyramid& pyramid,
+                                                                            const cv::Mat& right,
+                                                                            const std::vector<cv::Point2f>& found) {
+  std::vector<std::optional<Eigen::Vector3d>> out(found.size());
+  if (depth()) {
+    // The virtual pair's disparity, as the keyframe's depth points are made (KeyframeProcessor::depth_points).
+    const double baseline = config_.depth.virtual_baseline_m;
+    for (size_t k = 0; k < found.size(); ++k) {
+      const float d = depth_at(frame_depth_, found[k], config_.depth);
+      if (!(d > 0)) continue;  // no measurement, or a depth edge (NaN)
+      const Eigen::Vector2d left = to_eigen(found[k]);
+      const Eigen::Vector2d virtual_right(left.x() - camera_.fx * baseline / d, left.y());
+      out[k] = triangulate_stereo(camera_, baseline, left, virtual_right, config_.geometry.stereo);
+    }
+  } else {
+    out = stereo_depths(tracker_, pyramid, pyramid.image, right, found, camera_, rectifier_.baseline(),
+                        stereo_offset_px_, stereo_row_match(config_), config_.geometry.stereo)
+              .points;
+  }
+  for (auto& p : out)
+    if (p) p = T_world_work_ * *p;
+  return out;
 }
 
 }  // namespace pllvo::vo

@@ -156,6 +156,7 @@ void Odometry::apply_keyframe_results() {
       keyframe_requested_at_.erase(it);
     }
     if (!result.ok || state_ != TrackingState::kTracking) continue;
+    if (metric()) stereo_offset_px_ = result.stereo_offset_px;
     ScopedTimer t(stats_, "catch_up");
 
     // Points and lines the tracker already follows keep their current position and take the
@@ -244,6 +245,7 @@ void Odometry::drop_inconsistent_tracks(std::vector<TrackedPoint>& tracks, const
       pixels.push_back(to_eigen(tracks[i].px));
     }
   });
+  const geometry::Pose before = T_world_work_;
   if (config_.pose.follow_keyframe_adjustment) {
     if (const auto moved = follow_keyframe_adjustment(camera_, points, pixels, T_world_work_, result.T_world_cam,
                                                       result.T_world_cam_adjusted, gate)) {
@@ -261,6 +263,8 @@ void Odometry::drop_inconsistent_tracks(std::vector<TrackedPoint>& tracks, const
       stats_.add_count("poses_from_merged_tracks");
     }
   }
+  // The tracker's own corners sit where the old pose put them: they move with it.
+  if (!T_world_work_.isApprox(before)) move_corners(T_world_work_ * before.inverse());
   const std::vector<double> errors = reprojection_errors_px(camera_, points, pixels, T_world_work_);
   std::vector<TrackedPoint> kept;
   kept.reserve(tracks.size());

@@ -305,7 +305,7 @@ bool Odometry::track(const io::Frame& frame, const cv::Mat& left, const cv::Mat&
   }
   if (corner_inliers > 0) stats_.add_sample("frame_corner_inliers", corner_inliers);
   if (makes_provisional_points()) triangulate_candidates();
-  refresh_corners(left, map_inliers);
+  refresh_corners(pyramid, right, map_inliers);
 
   maybe_make_keyframe(frame, left, right, pyramid, map_inliers);
   return true;

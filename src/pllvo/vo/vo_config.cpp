@@ -88,6 +88,7 @@ void read_pose(const ConfigNode& n, PoseConfig& c) {
   n.get("merge_gate_px", c.merge_gate_px);
   n.get("provisional_points", c.provisional_points);
   n.get("frame_corners", c.frame_corners);
+  n.get("stereo_frame_corners", c.stereo_frame_corners);
   n.get("frame_corner_spacing_px", c.frame_corner_spacing_px);
   n.get("follow_keyframe_adjustment", c.follow_keyframe_adjustment);
   n.get("merge_pose_by_pnp", c.merge_pose_by_pnp);
@@ -206,6 +207,7 @@ VoConfig VoConfig::for_mode(bool stereo) const {
   if (stereo) {
     c.geometry.pnp.min_inliers = pose.stereo_pnp_min_inliers;
     c.pose.min_inliers_with_prior = pose.stereo_min_inliers_with_prior;
+    c.pose.frame_corners = pose.stereo_frame_corners;
     c.mapping.max_anchor_keyframes = mapping.stereo_max_anchor_keyframes;
   } else {
     auto& angle = c.geometry.line_triangulation.min_plane_angle_deg;
@@ -290,6 +292,7 @@ void VoConfig::validate(const std::filesystem::path& file) const {
           "keyframes.line_angle_distance_deg", "must be in (0, 90]");
   require(pose.lost_frames_before_reset >= 1, file, "pose.lost_frames_before_reset", "must be at least 1");
   require(pose.frame_corners >= 0, file, "pose.frame_corners", "must not be negative (0: off)");
+  require(pose.stereo_frame_corners >= 0, file, "pose.stereo_frame_corners", "must not be negative (0: off)");
   require(pose.frame_corner_spacing_px >= 1 && std::isfinite(pose.frame_corner_spacing_px), file,
           "pose.frame_corner_spacing_px", "must be at least 1");
   require(pose.hold_map_for_keyframe_s >= 0 && std::isfinite(pose.hold_map_for_keyframe_s), file,

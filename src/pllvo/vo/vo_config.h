@@ -219,6 +219,10 @@ struct PoseConfig {
   /// a provisional point (frame_corners.h). Candidates come only with keyframes, and in a dark
   /// or fast turn they die before the next one.
   int frame_corners = 100;
+  /// The same for a metric map (stereo, RGB-D; replaces frame_corners there): each new corner
+  /// takes its position from the frame's own stereo match or depth, as a keyframe's new points
+  /// do, and keeps it (0: off). Two-frame depths made metric live poses worse (docs/vo.md).
+  int stereo_frame_corners = 100;
   /// ...the corners at least this far (pixels) from each other and from every track.
   double frame_corner_spacing_px = 12.0;
   /// When PnP / the refinement fail for want of points, a pose is still accepted from the
