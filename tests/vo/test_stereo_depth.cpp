@@ -8,9 +8,12 @@
 
 #include "pllvo/vo/frame_corners.h"
 #include "pllvo/vo/stereo_depth.h"
+#include "shifted_pair.h"
 
 namespace pllvo::vo {
 namespace {
+
+using testing::shifted;
 
 /// Smoothed random texture: blobs of every orientation, so that the corners are real corners.
 cv::Mat texture(int width, int height) {
@@ -25,13 +28,6 @@ cv::Mat texture(int width, int height) {
   return image;
 }
 
-/// The right image of a fronto-parallel plane: the left one moved left by `disparity` pixels.
-cv::Mat shifted(const cv::Mat& left, double disparity) {
-  cv::Mat right;
-  const cv::Mat m = (cv::Mat_<double>(2, 3) << 1, 0, -disparity, 0, 1, 0);
-  cv::warpAffine(left, right, m, left.size(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
-  return right;
-}
 
 struct Rig {
   Pinhole camera{400, 400, 320, 240, 640, 480};

@@ -6,9 +6,12 @@
 #include <opencv2/imgproc.hpp>
 
 #include "pllvo/vo/stereo_row_match.h"
+#include "shifted_pair.h"
 
 namespace pllvo::vo {
 namespace {
+
+using testing::shifted;
 
 /// A smooth step edge through (cx, cy) at `angle_deg` from the horizontal, dark below, bright above,
 /// plus (optionally) a blob so that the window has texture in both directions.
@@ -25,13 +28,6 @@ cv::Mat edge_image(double angle_deg, double cx, double cy, bool blob) {
   return img;
 }
 
-/// The right image of a rectified pair: the left one moved left by `disparity` pixels.
-cv::Mat shifted(const cv::Mat& left, double disparity) {
-  cv::Mat right;
-  const cv::Mat m = (cv::Mat_<double>(2, 3) << 1, 0, -disparity, 0, 1, 0);
-  cv::warpAffine(left, right, m, left.size(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
-  return right;
-}
 
 TEST(StereoRowMatch, RecoversTheDisparityOfATexturedPoint) {
   const cv::Mat left = edge_image(60, 160, 120, true);

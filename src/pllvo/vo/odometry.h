@@ -231,9 +231,6 @@ class Odometry {
   std::vector<std::optional<Eigen::Vector3d>> measure_corner_depths(const ImagePyramid& pyramid, const cv::Mat& right,
                                                                     const std::vector<cv::Point2f>& found);
   bool uses_frame_corners() const;
-  /// When a keyframe's merge moves the current pose (T_new = T_new_old * T_old), the corners
-  /// move with it: they stay where the camera sees them.
-  void move_corners(const geometry::Pose& T_new_old);
   /// Whether this frame follows fewer map points than plain_scene.max_tracked_points.
   bool plain_frame() const;
   void set_reference_lines(const std::vector<TrackedLine>& lines);

@@ -65,13 +65,6 @@ void Odometry::refresh_corners(const ImagePyramid& pyramid, const cv::Mat& right
   spdlog::debug("{} corners found between keyframes ({} followed)", added, corners_.size());
 }
 
-void Odometry::move_corners(const geometry::Pose& T_new_old) {
-  for (FrameCorner& c : corners_) {
-    c.T_world_first = T_new_old * c.T_world_first;
-    if (c.position) c.position = T_new_old * *c.position;
-  }
-}
-
 std::vector<std::optional<Eigen::Vector3d>> Odometry::measure_corner_depths(const ImagePyramid& pyramid,
                                                                             const cv::Mat& right,
                                                                             const std::vector<cv::Point2f>& found) {

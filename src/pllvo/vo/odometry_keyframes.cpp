@@ -245,7 +245,6 @@ void Odometry::drop_inconsistent_tracks(std::vector<TrackedPoint>& tracks, const
       pixels.push_back(to_eigen(tracks[i].px));
     }
   });
-  const geometry::Pose before = T_world_work_;
   if (config_.pose.follow_keyframe_adjustment) {
     if (const auto moved = follow_keyframe_adjustment(camera_, points, pixels, T_world_work_, result.T_world_cam,
                                                       result.T_world_cam_adjusted, gate)) {
@@ -263,8 +262,6 @@ void Odometry::drop_inconsistent_tracks(std::vector<TrackedPoint>& tracks, const
       stats_.add_count("poses_from_merged_tracks");
     }
   }
-  // The tracker's own corners sit where the old pose put them: they move with it.
-  if (!T_world_work_.isApprox(before)) move_corners(T_world_work_ * before.inverse());
   const std::vector<double> errors = reprojection_errors_px(camera_, points, pixels, T_world_work_);
   std::vector<TrackedPoint> kept;
   kept.reserve(tracks.size());
