@@ -115,5 +115,27 @@ TEST(StereoDepth, ReadsADepthImageAndRefusesItsEdges) {
   EXPECT_EQ(depth_at(depth, {20.0f, 120.0f}, config), 0.0f);
 }
 
+TEST(StereoDepth, DepthImagePointsSitAtTheirDepthAsAVirtualPair) {
+  const Pinhole camera{400, 400, 50, 50, 100, 100};
+  const double baseline = 0.08;
+  cv::Mat depth(100, 100, CV_32F, cv::Scalar(2.0f));
+  depth(cv::Rect(50, 0, 50, 100)).setTo(3.0f);
+  const std::vector<cv::Point2f> points{{20.0f, 30.0f}, {80.0f, 60.0f}, {49.6f, 20.0f}, {-5.0f, 20.0f}};
+  const StereoDepths sd = depth_image_depths(depth, points, camera, baseline, DepthConfig{}, {});
+  ASSERT_TRUE(sd.points[0] && sd.points[1]);
+  EXPECT_NEAR(sd.points[0]->z(), 2.0, 1e-5);
+  EXPECT_NEAR(sd.points[1]->z(), 3.0, 1e-5);
+  EXPECT_NEAR(sd.points[0]->x(), (20.0 - 50.0) / 400.0 * 2.0, 1e-6);
+  EXPECT_NEAR(sd.right_px[0].x, 20.0 - 400.0 * baseline / 2.0, 1e-4);  // 16 px of virtual disparity
+  EXPECT_FALSE(sd.points[2].has_value());  // on the step: a depth edge
+  EXPECT_FALSE(sd.points[3].has_value());  // outside the image: no measurement
+  EXPECT_EQ(sd.edge_rejects, 1);
+  EXPECT_EQ(sd.matched, 2);
+  EXPECT_TRUE(std::isnan(sd.right_px[2].x));
+  const StereoDepths none = depth_image_depths(cv::Mat(), points, camera, baseline, DepthConfig{}, {});
+  EXPECT_EQ(none.points.size(), points.size());
+  EXPECT_EQ(none.matched, 0);
+}
+
 }  // namespace
 }  // namespace pllvo::vo

@@ -125,28 +125,15 @@ std::vector<std::optional<Eigen::Vector3d>> KeyframeProcessor::depth_points(cons
                                                                            std::vector<cv::Point2f>& right_px) {
   ScopedTimer t(stats_, "kf_depth");
   std::vector<std::optional<Eigen::Vector3d>> out(features.size());
-  right_px.assign(features.size(), cv::Point2f(NAN, NAN));
-  if (job.depth.empty()) return out;
-  int measured = 0, edges = 0;
-  for (size_t i = 0; i < features.size(); ++i) {
-    const float d = depth_at(job.depth, features.points[i], config_.depth);
-    if (d == 0) continue;
-    if (!std::isfinite(d)) {
-      ++edges;
-      continue;
-    }
-    const cv::Point2f right(features.points[i].x - static_cast<float>(camera_.fx * baseline_ / d),
-                            features.points[i].y);
-    const auto p = triangulate_stereo(camera_, baseline_, to_eigen(features.points[i]), to_eigen(right),
-                                      config_.geometry.stereo);
-    if (!p) continue;
-    ++measured;
-    right_px[i] = right;
-    if (ids[i] == kNoId) out[i] = p;
-  }
-  if (edges > 0) stats_.add_count("depth_edge_rejects", edges);
-  spdlog::debug("frame {}: depth for {} of {} features ({} on depth edges)", job.frame_index, measured,
-                features.size(), edges);
+  StereoDepths sd = depth_image_depths(job.depth, features.points, camera_, baseline_, config_.depth,
+                                       config_.geometry.stereo);
+  right_px = std::move(sd.right_px);
+  for (size_t i = 0; i < features.size(); ++i)
+    if (ids[i] == kNoId) out[i] = sd.points[i];
+  if (sd.edge_rejects > 0) stats_.add_count("depth_edge_rejects", sd.edge_rejects);
+  if (!job.depth.empty())
+    spdlog::debug("frame {}: depth for {} of {} features ({} on depth edges)", job.frame_index, sd.matched,
+                  features.size(), sd.edge_rejects);
   return out;
 }
 

@@ -68,22 +68,14 @@ void Odometry::refresh_corners(const ImagePyramid& pyramid, const cv::Mat& right
 std::vector<std::optional<Eigen::Vector3d>> Odometry::measure_corner_depths(const ImagePyramid& pyramid,
                                                                             const cv::Mat& right,
                                                                             const std::vector<cv::Point2f>& found) {
-  std::vector<std::optional<Eigen::Vector3d>> out(found.size());
-  if (depth()) {
-    // The virtual pair's disparity, as the keyframe's depth points are made (KeyframeProcessor::depth_points).
-    const double baseline = config_.depth.virtual_baseline_m;
-    for (size_t k = 0; k < found.size(); ++k) {
-      const float d = depth_at(frame_depth_, found[k], config_.depth);
-      if (!(d > 0)) continue;  // no measurement, or a depth edge (NaN)
-      const Eigen::Vector2d left = to_eigen(found[k]);
-      const Eigen::Vector2d virtual_right(left.x() - camera_.fx * baseline / d, left.y());
-      out[k] = triangulate_stereo(camera_, baseline, left, virtual_right, config_.geometry.stereo);
-    }
-  } else {
-    out = stereo_depths(tracker_, pyramid, pyramid.image, right, found, camera_, rectifier_.baseline(),
-                        stereo_offset_px_, stereo_row_match(config_), config_.geometry.stereo)
-              .points;
-  }
+  // The same measurement as a keyframe's new points (KeyframeProcessor::stereo_points, depth_points).
+  std::vector<std::optional<Eigen::Vector3d>> out =
+      depth() ? depth_image_depths(frame_depth_, found, camera_, config_.depth.virtual_baseline_m, config_.depth,
+                                   config_.geometry.stereo)
+                    .points
+              : stereo_depths(tracker_, pyramid, pyramid.image, right, found, camera_, rectifier_.baseline(),
+                              stereo_offset_px_, stereo_row_match(config_), config_.geometry.stereo)
+                    .points;
   for (auto& p : out)
     if (p) p = T_world_work_ * *p;
   return out;

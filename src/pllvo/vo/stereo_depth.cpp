@@ -40,6 +40,34 @@ StereoDepths stereo_depths(const PointTracker& klt, const ImagePyramid& left_pyr
   return out;
 }
 
+StereoDepths depth_image_depths(const cv::Mat& depth, const std::vector<cv::Point2f>& points, const Pinhole& camera,
+                                double baseline, const DepthConfig& config,
+                                const geometry::StereoTriangulationConfig& triangulation) {
+  StereoDepths out;
+  out.points.resize(points.size());
+  out.right_px.assign(points.size(), cv::Point2f(NAN, NAN));
+  if (depth.empty()) return out;
+  for (size_t k = 0; k < points.size(); ++k) {
+    const float d = depth_at(depth, points[k], config);
+    if (d == 0) continue;
+    if (!std::isfinite(d)) {
+      ++out.edge_rejects;
+      continue;
+    }
+    const cv::Point2f right(points[k].x - static_cast<float>(camera.fx * baseline / d), points[k].y);
+    const auto p = triangulate_stereo(camera, baseline, Eigen::Vector2d(points[k].x, points[k].y),
+                                      Eigen::Vector2d(right.x, right.y), triangulation);
+    if (!p) {
+      ++out.depth_rejects;
+      continue;
+    }
+    ++out.matched;
+    out.right_px[k] = right;
+    out.points[k] = p;
+  }
+  return out;
+}
+
 StereoRowMatchConfig stereo_row_match(const VoConfig& config) {
   StereoRowMatchConfig row;
   row.window_px = config.klt.window_px;

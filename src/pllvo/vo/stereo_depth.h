@@ -22,6 +22,7 @@ struct StereoDepths {
   TrackResult::Rejections lk_rejected;  ///< lost by the left-to-right LK
   int row_rejects = 0;    ///< lost by the refinement along the row (too little horizontal texture)
   int depth_rejects = 0;  ///< refused by the triangulation's checks
+  int edge_rejects = 0;   ///< depth image: on a depth edge (depth_at)
   int matched = 0;
 };
 
@@ -32,6 +33,13 @@ StereoDepths stereo_depths(const PointTracker& klt, const ImagePyramid& left_pyr
                            const cv::Mat& right, const std::vector<cv::Point2f>& points, const Pinhole& camera,
                            double baseline, double offset_px, const StereoRowMatchConfig& row,
                            const geometry::StereoTriangulationConfig& triangulation);
+
+/// The same from a depth image registered to the left camera: each point's depth (depth_at) as
+/// the disparity of a virtual pair of `baseline` (its right pixel u - f b / d, the BA's
+/// observation), triangulated by the same checks; none where the depth image has no measurement.
+StereoDepths depth_image_depths(const cv::Mat& depth, const std::vector<cv::Point2f>& points, const Pinhole& camera,
+                                double baseline, const DepthConfig& config,
+                                const geometry::StereoTriangulationConfig& triangulation);
 
 /// The row refinement's settings from the config (klt.window_px, klt.stereo_min_horizontal_share).
 StereoRowMatchConfig stereo_row_match(const VoConfig& config);
